@@ -1,0 +1,263 @@
+//! World configuration: the seed's parameters, the boundary, and the model options.
+//!
+//! Every default is the seed document's behaviour. Where the seed is physically questionable
+//! (mass = radius, restitution applied to each new normal velocity, velocity update for pairs
+//! that already separate) the physically standard choice is an explicit option here, never the
+//! default. [`Config::validate`] checks everything once; the step itself never re-checks.
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Simulation parameters. Build with [`Config::default`] and change what you need.
+///
+/// ```
+/// use bounce::{Boundary, Config};
+/// let config = Config {
+///     coefficient_of_restitution: 0.9,
+///     boundary: Boundary::walls([0.0, 0.0], [100.0, 50.0]),
+///     ..Config::default()
+/// };
+/// assert!(config.validate().is_ok());
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// The seed's `collision_radius_scale`: two discs collide when their centre distance is at
+    /// most `(r_i + r_j) * collision_radius_scale`. Default `1.0` (discs touch exactly). Values
+    /// above 1 make particles react before they touch, as the seed's author wanted for
+    /// responsiveness. Must be finite and `> 0`.
+    pub collision_radius_scale: f64,
+    /// The seed's `COEFFICIENT_OF_RESTITUTION`, applied as [`Config::restitution_model`] says.
+    /// Default `1.0` (elastic). Must be finite and in `[0, 1]`.
+    pub coefficient_of_restitution: f64,
+    /// Uniform acceleration in length/time², applied every substep. Default `[0, 0]`: the seed
+    /// has no gravity, and a gas is the common first experiment.
+    pub gravity: [f64; 2],
+    /// Substeps per [`crate::World::step`]: each runs integrate → boundary → detect → resolve
+    /// with `dt / substeps`. Default `1`, as in the seed's one-pass loop; raise it for stacks and
+    /// piles where overlaps must stay small. Must be `>= 1`.
+    pub substeps: u32,
+    /// What happens at the edge of the world. Default [`Boundary::Open`]: the seed names no box,
+    /// and an open world invents no length scale. Use [`Boundary::walls`] for a container.
+    pub boundary: Boundary,
+    /// The mass each disc has in the collision formula, kinetic energy and momentum. Default
+    /// [`MassModel::Radius`], the seed's (the radii stand in for the masses).
+    pub mass_model: MassModel,
+    /// How the coefficient of restitution is applied. Default
+    /// [`RestitutionModel::ScaleEachNormalVelocity`], the seed's.
+    pub restitution_model: RestitutionModel,
+    /// Which detected pairs get the velocity update. Default [`VelocityUpdate::AllDetected`],
+    /// the seed's.
+    pub velocity_update: VelocityUpdate,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            collision_radius_scale: 1.0,
+            coefficient_of_restitution: 1.0,
+            gravity: [0.0, 0.0],
+            substeps: 1,
+            boundary: Boundary::Open,
+            mass_model: MassModel::Radius,
+            restitution_model: RestitutionModel::ScaleEachNormalVelocity,
+            velocity_update: VelocityUpdate::AllDetected,
+        }
+    }
+}
+
+/// The edge of the world.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Boundary {
+    /// No boundary: particles fly freely. The grid follows the particles.
+    Open,
+    /// An axis-aligned box whose four walls reflect discs. A disc touches a wall when its
+    /// centre is within its (unscaled) radius of it; its centre is then put back at that distance
+    /// and its normal velocity, if moving into the wall, is reversed and scaled by the wall
+    /// restitution. The momentum change is reported per wall in [`crate::StepStats`].
+    Walls {
+        /// Lower-left corner.
+        min: [f64; 2],
+        /// Upper-right corner.
+        max: [f64; 2],
+        /// Restitution of the walls, in `[0, 1]`. `None` (the default) uses the
+        /// coefficient of restitution.
+        #[serde(default)]
+        wall_restitution: Option<f64>,
+    },
+    /// A periodic box: a disc leaving one side re-enters on the other, and distances use the
+    /// minimum image. Discs must satisfy `2 r * collision_radius_scale <= width / 2` (and
+    /// height), so that only one image of a neighbour can be within reach.
+    Periodic {
+        /// Lower-left corner.
+        min: [f64; 2],
+        /// Upper-right corner.
+        max: [f64; 2],
+    },
+}
+
+impl Boundary {
+    /// Walls around the box `[min, max]` with the wall restitution equal to the coefficient of
+    /// restitution.
+    pub fn walls(min: [f64; 2], max: [f64; 2]) -> Self {
+        Boundary::Walls {
+            min,
+            max,
+            wall_restitution: None,
+        }
+    }
+
+    /// A periodic box `[min, max)`.
+    pub fn periodic(min: [f64; 2], max: [f64; 2]) -> Self {
+        Boundary::Periodic { min, max }
+    }
+
+    /// The box of a walled or periodic world; `None` when open.
+    pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
+        match *self {
+            Boundary::Open => None,
+            Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => Some((min, max)),
+        }
+    }
+}
+
+/// The mass of each disc.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MassModel {
+    /// The seed's choice: mass = radius. Cheap and what the seed's formulas say, but a disc of
+    /// twice the radius has four times the area and only twice the mass.
+    Radius,
+    /// Mass = π r² (uniform areal density 1): what a 2D disc of one material weighs. Choose it
+    /// for mixtures of sizes where heavy large discs matter (Brownian motion, segregation).
+    Area,
+    /// Each particle's own [`crate::Particle::mass`] (defaulting to π r² when not given).
+    PerParticle,
+}
+
+impl MassModel {
+    /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
+    #[inline]
+    pub fn mass(self, radius: f64, per_particle: f64) -> f64 {
+        match self {
+            MassModel::Radius => radius,
+            MassModel::Area => std::f64::consts::PI * radius * radius,
+            MassModel::PerParticle => per_particle,
+        }
+    }
+}
+
+/// How the coefficient of restitution `e` enters the collision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestitutionModel {
+    /// The seed's step 6: compute both elastic normal velocities, then multiply each by `e`.
+    /// For `e < 1` this does not conserve momentum (a resting pair hit by a moving one loses
+    /// momentum to nowhere), and pairs keep losing speed while in contact.
+    ScaleEachNormalVelocity,
+    /// The standard Newton restitution law: the relative normal velocity is reversed and scaled
+    /// by `e`, the centre-of-mass velocity is kept. Conserves momentum for every `e`;
+    /// identical to the seed at `e = 1` up to rounding.
+    RelativeNormalVelocity,
+}
+
+/// Which detected pairs get their velocities changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VelocityUpdate {
+    /// The seed's: every pair within the collision distance gets steps 4–7, even one whose
+    /// discs already move apart. Such a pair exchanges its normal velocities back, so two discs
+    /// still overlapping after a bounce can stick together for a few steps.
+    AllDetected,
+    /// Only pairs whose relative normal velocity brings them closer. The usual choice in
+    /// impulse-based engines: separating pairs only get the overlap push.
+    ApproachingOnly,
+}
+
+/// A configuration value out of its allowed range.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[error("invalid config: `{field}` = {value}: {expected}")]
+pub struct ConfigError {
+    /// The field's name as in [`Config`] (`boundary.max` for nested fields).
+    pub field: &'static str,
+    /// The offending value, formatted.
+    pub value: String,
+    /// What the field must be.
+    pub expected: &'static str,
+}
+
+impl Config {
+    /// Checks every field; the first problem is returned, naming the field and its value.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let err = |field, value: String, expected| {
+            Err(ConfigError {
+                field,
+                value,
+                expected,
+            })
+        };
+        let s = self.collision_radius_scale;
+        if !(s.is_finite() && s > 0.0) {
+            return err(
+                "collision_radius_scale",
+                s.to_string(),
+                "must be finite and > 0",
+            );
+        }
+        let e = self.coefficient_of_restitution;
+        if !(0.0..=1.0).contains(&e) {
+            return err(
+                "coefficient_of_restitution",
+                e.to_string(),
+                "must be in [0, 1]",
+            );
+        }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return err("gravity", format!("{:?}", self.gravity), "must be finite");
+        }
+        if self.substeps == 0 {
+            return err("substeps", "0".into(), "must be >= 1");
+        }
+        if let Some((min, max)) = self.boundary.bounds() {
+            if !min.iter().chain(&max).all(|v| v.is_finite()) {
+                return err(
+                    "boundary",
+                    format!("min {min:?}, max {max:?}"),
+                    "corners must be finite",
+                );
+            }
+            if !(min[0] < max[0] && min[1] < max[1]) {
+                return err(
+                    "boundary",
+                    format!("min {min:?}, max {max:?}"),
+                    "min must be below max on both axes",
+                );
+            }
+        }
+        if let Boundary::Walls {
+            wall_restitution: Some(w),
+            ..
+        } = self.boundary
+            && !(0.0..=1.0).contains(&w)
+        {
+            return err(
+                "boundary.wall_restitution",
+                w.to_string(),
+                "must be in [0, 1]",
+            );
+        }
+        Ok(())
+    }
+
+    /// The restitution the walls use.
+    pub fn wall_restitution(&self) -> f64 {
+        match self.boundary {
+            Boundary::Walls {
+                wall_restitution: Some(w),
+                ..
+            } => w,
+            _ => self.coefficient_of_restitution,
+        }
+    }
+}

@@ -1,0 +1,56 @@
+//! # bounce
+//!
+//! A fast, faithful, deterministic 2D simulator of colliding discs.
+//!
+//! bounce implements the collision model of its seed document exactly, as its default:
+//! two discs collide when `distance <= (r_i + r_j) * collision_radius_scale`; a colliding
+//! pair is pushed apart half each, its velocities are split into normal and tangent parts,
+//! the normal parts follow the 1D elastic formula with the **radii as masses**, and each new
+//! normal velocity is scaled by the coefficient of restitution. Where that model departs from
+//! textbook physics, the textbook way is an option of [`Config`], never the default.
+//!
+//! What it aims for, in order:
+//! 1. **Faithful**: the seed's formulas term for term ([`collision::resolve_pair`]).
+//! 2. **Deterministic**: the same input gives the same bits, whatever the thread count.
+//! 3. **Fast**: O(N) per step with a hierarchy of uniform grids, particles kept in cell
+//!    order, pairs resolved in parallel blocks.
+//!
+//! ```
+//! use bounce::{Boundary, Config, Particle, World};
+//!
+//! let config = Config {
+//!     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+//!     ..Config::default()
+//! };
+//! let mut world = World::new(config)?;
+//! world.add_particle(Particle::new([3.0, 5.0], [1.0, 0.0], 0.5))?;
+//! world.add_particle(Particle::new([7.0, 5.0], [-1.0, 0.0], 0.5))?;
+//! for _ in 0..200 {
+//!     world.step(0.01)?;
+//! }
+//! // Equal discs met head on and swapped velocities: momentum (mass = radius) is conserved.
+//! let p = world.stats().momentum;
+//! assert!(p[0].abs() < 1e-12 && p[1].abs() < 1e-12);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! See `ARCHITECTURE.md` in the repository for the data flow of one step.
+
+mod boundary;
+pub mod broadphase;
+pub mod collision;
+mod config;
+mod integrate;
+mod parallel;
+mod particles;
+pub mod scene;
+mod solver;
+mod stats;
+mod world;
+
+pub use boundary::WallImpulse;
+pub use config::{Boundary, Config, ConfigError, MassModel, RestitutionModel, VelocityUpdate};
+pub use parallel::ThreadsError;
+pub use particles::{Particle, ParticleError, ParticleId, Particles};
+pub use stats::StepStats;
+pub use world::{StepError, World, WorldError};

@@ -1,0 +1,130 @@
+//! Running work on one thread or many with the same result.
+//!
+//! Everything the step does in parallel is split into pieces whose boundaries depend on the
+//! data only (grid blocks, fixed-size particle chunks), never on the thread count, and partial
+//! results are combined in piece order. So a run on 8 threads is bit-identical to a run on 1.
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+/// Particles per chunk for per-particle passes. Partial sums are taken per chunk and added in
+/// chunk order, so floating-point sums do not depend on the thread count.
+pub(crate) const CHUNK: usize = 4096;
+
+/// Where the step's work runs: the calling thread, or a rayon pool of a fixed size.
+#[derive(Debug, Default)]
+pub(crate) struct Executor {
+    pool: Option<rayon::ThreadPool>,
+}
+
+/// The thread pool could not be created.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("cannot start {threads} worker threads: {reason}")]
+pub struct ThreadsError {
+    /// The requested thread count.
+    pub threads: usize,
+    /// What the operating system said.
+    pub reason: String,
+}
+
+impl Executor {
+    /// An executor with `threads` workers; 0 or 1 runs everything on the calling thread.
+    pub(crate) fn new(threads: usize) -> Result<Self, ThreadsError> {
+        if threads <= 1 {
+            return Ok(Executor { pool: None });
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("bounce-{i}"))
+            .build()
+            .map_err(|e| ThreadsError {
+                threads,
+                reason: e.to_string(),
+            })?;
+        Ok(Executor { pool: Some(pool) })
+    }
+
+    /// Number of threads the work runs on.
+    pub(crate) fn threads(&self) -> usize {
+        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
+    }
+
+    /// Calls `f(i, item)` for each item; in parallel when there is a pool.
+    pub(crate) fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
+        match &self.pool {
+            None => items.iter_mut().enumerate().for_each(|(i, t)| f(i, t)),
+            Some(pool) => {
+                pool.install(|| items.par_iter_mut().enumerate().for_each(|(i, t)| f(i, t)))
+            }
+        }
+    }
+
+    /// Calls `f(i)` for each index of `range`; in parallel when there is a pool.
+    pub(crate) fn for_each_index(&self, range: Range<usize>, f: impl Fn(usize) + Sync + Send) {
+        match &self.pool {
+            None => range.for_each(f),
+            Some(pool) => pool.install(|| range.into_par_iter().for_each(f)),
+        }
+    }
+
+    /// Maps each index of `range` to a value, in index order.
+    pub(crate) fn map_index<T: Send>(
+        &self,
+        range: Range<usize>,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Vec<T> {
+        match &self.pool {
+            None => range.map(f).collect(),
+            Some(pool) => pool.install(|| range.into_par_iter().map(f).collect()),
+        }
+    }
+}
+
+/// A mutable slice shared between threads that promise to touch disjoint indices.
+///
+/// The collision solver needs this: a grid block's pairs write particles of the block and its
+/// one-cell ring, which are not contiguous in memory. The block colouring in `broadphase`
+/// guarantees that blocks resolved at the same time touch disjoint particles.
+pub(crate) struct SharedSlice<'a, T> {
+    ptr: *mut T,
+    len: usize,
+    _borrow: std::marker::PhantomData<&'a mut [T]>,
+}
+
+// SAFETY: access goes through the unsafe `get`/`set`, whose callers guarantee that no index is
+// written by one thread while another reads or writes it.
+unsafe impl<T: Send> Send for SharedSlice<'_, T> {}
+unsafe impl<T: Send> Sync for SharedSlice<'_, T> {}
+
+impl<'a, T: Copy> SharedSlice<'a, T> {
+    pub(crate) fn new(slice: &'a mut [T]) -> Self {
+        SharedSlice {
+            ptr: slice.as_mut_ptr(),
+            len: slice.len(),
+            _borrow: std::marker::PhantomData,
+        }
+    }
+
+    /// Reads index `i`.
+    ///
+    /// # Safety
+    /// `i < len`, and no other thread writes index `i` at the same time.
+    #[inline(always)]
+    pub(crate) unsafe fn get(&self, i: usize) -> T {
+        debug_assert!(i < self.len);
+        // SAFETY: in bounds and not concurrently written, by the caller's promise.
+        unsafe { *self.ptr.add(i) }
+    }
+
+    /// Writes index `i`.
+    ///
+    /// # Safety
+    /// `i < len`, and no other thread reads or writes index `i` at the same time.
+    #[inline(always)]
+    pub(crate) unsafe fn set(&self, i: usize, value: T) {
+        debug_assert!(i < self.len);
+        // SAFETY: in bounds and exclusively accessed, by the caller's promise.
+        unsafe { *self.ptr.add(i) = value }
+    }
+}

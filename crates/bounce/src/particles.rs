@@ -1,0 +1,278 @@
+//! Particle storage: the hot state as struct-of-arrays of `f64`, plus stable ids.
+//!
+//! The step keeps the arrays sorted by grid cell (see `broadphase`), so a particle's index
+//! changes from step to step; its [`ParticleId`] never does. Everything a step reads or writes
+//! per particle lives here and nowhere else, so a checkpoint is this struct plus the config.
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::config::{Boundary, Config};
+
+/// A particle's stable identity, assigned in order of addition from 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct ParticleId(pub u32);
+
+/// One disc as the user describes it: what goes into [`crate::World::add_particle`] and comes
+/// out of [`crate::World::particle`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Particle {
+    /// Centre, in length units.
+    pub position: [f64; 2],
+    /// Velocity, in length per time unit.
+    pub velocity: [f64; 2],
+    /// Radius, `> 0`.
+    pub radius: f64,
+    /// Mass used by [`crate::MassModel::PerParticle`]; `None` means π r² (areal density 1).
+    /// Ignored by the other mass models.
+    pub mass: Option<f64>,
+}
+
+impl Particle {
+    /// A disc at `position` with `velocity` and `radius`, mass from the mass model.
+    pub fn new(position: [f64; 2], velocity: [f64; 2], radius: f64) -> Self {
+        Particle {
+            position,
+            velocity,
+            radius,
+            mass: None,
+        }
+    }
+}
+
+/// Why a particle was refused. The world is unchanged when this is returned.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum ParticleError {
+    /// A position component is NaN or infinite.
+    #[error("position {0:?} is not finite")]
+    NonFinitePosition([f64; 2]),
+    /// A velocity component is NaN or infinite.
+    #[error("velocity {0:?} is not finite")]
+    NonFiniteVelocity([f64; 2]),
+    /// The radius is not a finite number `> 0`.
+    #[error("radius {0} must be finite and > 0")]
+    InvalidRadius(f64),
+    /// The given mass is not a finite number `> 0`.
+    #[error("mass {0} must be finite and > 0")]
+    InvalidMass(f64),
+    /// The centre lies outside the walls or the periodic box.
+    #[error("centre {position:?} is outside the box {min:?}..{max:?}")]
+    OutsideBox {
+        /// The refused centre.
+        position: [f64; 2],
+        /// The box's lower-left corner.
+        min: [f64; 2],
+        /// The box's upper-right corner.
+        max: [f64; 2],
+    },
+    /// The disc cannot fit the box (walls: its diameter exceeds a side; periodic: its
+    /// interaction diameter exceeds half a side).
+    #[error("radius {radius} is too large for the box of size {size:?}: {rule}")]
+    TooLarge {
+        /// The refused radius.
+        radius: f64,
+        /// Width and height of the box.
+        size: [f64; 2],
+        /// The rule that is broken.
+        rule: &'static str,
+    },
+    /// No particle has this id.
+    #[error("no particle has id {}", .0.0)]
+    UnknownId(ParticleId),
+    /// The world already holds `u32::MAX` particles.
+    #[error("too many particles: ids are 32-bit")]
+    TooMany,
+}
+
+impl Particle {
+    /// Checks this particle against a (valid) config.
+    pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
+        self.validate_values()?;
+        fits_boundary(self.position, self.radius, config)
+    }
+
+    /// Checks that every value is finite and radius and mass are positive.
+    pub(crate) fn validate_values(&self) -> Result<(), ParticleError> {
+        let [x, y] = self.position;
+        if !(x.is_finite() && y.is_finite()) {
+            return Err(ParticleError::NonFinitePosition(self.position));
+        }
+        if !self.velocity.iter().all(|v| v.is_finite()) {
+            return Err(ParticleError::NonFiniteVelocity(self.velocity));
+        }
+        let r = self.radius;
+        if !(r.is_finite() && r > 0.0) {
+            return Err(ParticleError::InvalidRadius(r));
+        }
+        match self.mass {
+            Some(m) if !(m.is_finite() && m > 0.0) => Err(ParticleError::InvalidMass(m)),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Checks that a disc of radius `r` at `position` is allowed by the boundary.
+pub(crate) fn fits_boundary(
+    position: [f64; 2],
+    r: f64,
+    config: &Config,
+) -> Result<(), ParticleError> {
+    let Some((min, max)) = config.boundary.bounds() else {
+        return Ok(());
+    };
+    let [x, y] = position;
+    let outside = match config.boundary {
+        // A periodic box is half-open: `max` is the same place as `min`.
+        Boundary::Periodic { .. } => !(x >= min[0] && x < max[0] && y >= min[1] && y < max[1]),
+        _ => !(x >= min[0] && x <= max[0] && y >= min[1] && y <= max[1]),
+    };
+    if outside {
+        return Err(ParticleError::OutsideBox { position, min, max });
+    }
+    fits_size(r, config)
+}
+
+/// Checks that a disc of radius `r` fits the box.
+pub(crate) fn fits_size(r: f64, config: &Config) -> Result<(), ParticleError> {
+    let Some((min, max)) = config.boundary.bounds() else {
+        return Ok(());
+    };
+    let size = [max[0] - min[0], max[1] - min[1]];
+    let smaller_side = size[0].min(size[1]);
+    match config.boundary {
+        Boundary::Walls { .. } if 2.0 * r > smaller_side => Err(ParticleError::TooLarge {
+            radius: r,
+            size,
+            rule: "the diameter must fit between the walls",
+        }),
+        Boundary::Periodic { .. }
+            if 2.0 * r * config.collision_radius_scale > smaller_side / 2.0 =>
+        {
+            Err(ParticleError::TooLarge {
+                radius: r,
+                size,
+                rule: "2 r collision_radius_scale must be <= half of each side (minimum image)",
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The particles of a world, struct-of-arrays. Read it through [`crate::World::particles`];
+/// index `i` addresses the same particle in every slice during one step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Particles {
+    pub(crate) id: Vec<ParticleId>,
+    pub(crate) x: Vec<f64>,
+    pub(crate) y: Vec<f64>,
+    pub(crate) vx: Vec<f64>,
+    pub(crate) vy: Vec<f64>,
+    pub(crate) radius: Vec<f64>,
+    /// The per-particle mass (π r² when not given); used by `MassModel::PerParticle`.
+    pub(crate) mass: Vec<f64>,
+}
+
+impl Particles {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    /// `true` when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Stable ids, in storage order.
+    pub fn ids(&self) -> &[ParticleId] {
+        &self.id
+    }
+
+    /// Centre x coordinates.
+    pub fn x(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// Centre y coordinates.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Velocity x components.
+    pub fn vx(&self) -> &[f64] {
+        &self.vx
+    }
+
+    /// Velocity y components.
+    pub fn vy(&self) -> &[f64] {
+        &self.vy
+    }
+
+    /// Radii.
+    pub fn radius(&self) -> &[f64] {
+        &self.radius
+    }
+
+    /// Per-particle masses (π r² where none was given); see [`crate::MassModel::PerParticle`].
+    pub fn per_particle_mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// The particle at storage index `i`.
+    pub fn get(&self, i: usize) -> Option<Particle> {
+        (i < self.len()).then(|| Particle {
+            position: [self.x[i], self.y[i]],
+            velocity: [self.vx[i], self.vy[i]],
+            radius: self.radius[i],
+            mass: Some(self.mass[i]),
+        })
+    }
+
+    pub(crate) fn push(&mut self, id: ParticleId, p: &Particle) {
+        self.id.push(id);
+        self.x.push(p.position[0]);
+        self.y.push(p.position[1]);
+        self.vx.push(p.velocity[0]);
+        self.vy.push(p.velocity[1]);
+        self.radius.push(p.radius);
+        self.mass
+            .push(p.mass.unwrap_or(std::f64::consts::PI * p.radius * p.radius));
+    }
+
+    pub(crate) fn truncate(&mut self, len: usize) {
+        self.id.truncate(len);
+        self.x.truncate(len);
+        self.y.truncate(len);
+        self.vx.truncate(len);
+        self.vy.truncate(len);
+        self.radius.truncate(len);
+        self.mass.truncate(len);
+    }
+
+    /// Reorders every array so that new index `k` holds old index `order[k]`.
+    /// `scratch` is reused between calls to avoid allocation.
+    pub(crate) fn permute(
+        &mut self,
+        order: &[u32],
+        scratch: &mut Vec<f64>,
+        id_scratch: &mut Vec<ParticleId>,
+    ) {
+        debug_assert_eq!(order.len(), self.len());
+        fn apply<T: Copy>(v: &mut [T], order: &[u32], scratch: &mut Vec<T>) {
+            scratch.clear();
+            scratch.extend(order.iter().map(|&i| v[i as usize]));
+            v.copy_from_slice(scratch);
+        }
+        for v in [
+            &mut self.x,
+            &mut self.y,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.radius,
+            &mut self.mass,
+        ] {
+            apply(v, order, scratch);
+        }
+        apply(&mut self.id, order, id_scratch);
+    }
+}

@@ -1,0 +1,265 @@
+//! Ready-made sets of discs that the examples, tests, benchmarks, CLI and viewer share:
+//! a random gas placed without overlap, and a lattice. Deterministic from a seed.
+
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::config::{Boundary, Config};
+use crate::particles::Particle;
+
+/// How a generator sets velocities.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Speeds {
+    /// Every disc at this speed, in a uniformly random direction.
+    Fixed(f64),
+    /// Each component uniform in `[-a, a]`.
+    Uniform(f64),
+    /// Thermal: each component normal with variance `kT / m` (2D Maxwell–Boltzmann at
+    /// temperature `kT`, with the mass model's masses).
+    Temperature(f64),
+}
+
+/// A random gas: `count` discs with radii uniform in `radius`, centres uniform in the region
+/// with no two discs within the collision distance, velocities from `speeds` plus `drift`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Gas {
+    /// Number of discs.
+    pub count: usize,
+    /// Smallest and largest radius (equal for one size).
+    pub radius: [f64; 2],
+    /// Where centres go; `None` means the whole box of the boundary (required when open).
+    pub region: Option<([f64; 2], [f64; 2])>,
+    /// Velocity distribution.
+    pub speeds: Speeds,
+    /// Common velocity added to every disc.
+    pub drift: [f64; 2],
+    /// Random seed: the same seed gives the same discs.
+    pub seed: u64,
+}
+
+/// A rectangular lattice of equal discs with one common velocity.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Lattice {
+    /// Centre of the first disc.
+    pub origin: [f64; 2],
+    /// Distance between neighbouring centres along x and y.
+    pub spacing: [f64; 2],
+    /// Discs along x and y.
+    pub counts: [usize; 2],
+    /// Radius of every disc.
+    pub radius: f64,
+    /// Velocity of every disc.
+    pub velocity: [f64; 2],
+}
+
+/// Why a generator could not produce its discs.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum SceneError {
+    /// Random placement ran out of attempts.
+    #[error(
+        "could only place {placed} of {requested} discs without overlap: use fewer or smaller discs, or a larger region"
+    )]
+    CannotPlace {
+        /// Discs placed before giving up.
+        placed: usize,
+        /// Discs asked for.
+        requested: usize,
+    },
+    /// A parameter is out of range.
+    #[error("invalid `{field}` = {value}: {expected}")]
+    Invalid {
+        /// The parameter.
+        field: &'static str,
+        /// Its value.
+        value: String,
+        /// What it must be.
+        expected: &'static str,
+    },
+}
+
+/// Attempts per disc before random placement gives up.
+const ATTEMPTS: usize = 2000;
+
+fn invalid(field: &'static str, value: String, expected: &'static str) -> SceneError {
+    SceneError::Invalid {
+        field,
+        value,
+        expected,
+    }
+}
+
+/// Places a random gas for `config`. Fails if the spec is invalid or the discs do not fit.
+pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
+    let [r_lo, r_hi] = spec.radius;
+    if !(r_lo.is_finite() && r_lo > 0.0 && r_hi.is_finite() && r_hi >= r_lo) {
+        return Err(invalid(
+            "radius",
+            format!("{:?}", spec.radius),
+            "finite, > 0, min <= max",
+        ));
+    }
+    let speed_ok = match spec.speeds {
+        Speeds::Fixed(v) | Speeds::Uniform(v) | Speeds::Temperature(v) => v.is_finite() && v >= 0.0,
+    };
+    if !speed_ok || !spec.drift.iter().all(|v| v.is_finite()) {
+        return Err(invalid(
+            "speeds",
+            format!("{:?}, drift {:?}", spec.speeds, spec.drift),
+            "finite and >= 0",
+        ));
+    }
+    let periodic = matches!(config.boundary, Boundary::Periodic { .. });
+    let (min, max) = spec
+        .region
+        .or(config.boundary.bounds())
+        .ok_or_else(|| invalid("region", "none".into(), "required in an open world"))?;
+    if !(min.iter().chain(&max).all(|v| v.is_finite()) && min[0] < max[0] && min[1] < max[1]) {
+        return Err(invalid(
+            "region",
+            format!("{min:?}..{max:?}"),
+            "finite with min < max",
+        ));
+    }
+    let s = config.collision_radius_scale;
+    let mut rng = Pcg64Mcg::seed_from_u64(spec.seed);
+
+    // Largest first: big discs are hardest to fit late.
+    let mut radii: Vec<f64> = (0..spec.count)
+        .map(|_| r_lo + (r_hi - r_lo) * rng.random::<f64>())
+        .collect();
+    radii.sort_by(|a, b| b.total_cmp(a));
+
+    // A placement grid with cells no smaller than the largest interaction diameter.
+    let size = [max[0] - min[0], max[1] - min[1]];
+    let reach = 2.0 * r_hi * s;
+    let n = [0, 1].map(|a| ((size[a] / reach).floor() as usize).clamp(1, 4096));
+    let mut cells: Vec<Vec<usize>> = vec![Vec::new(); n[0] * n[1]];
+    let cell_of = |p: [f64; 2]| -> [usize; 2] {
+        [0, 1].map(|a| (((p[a] - min[a]) / size[a] * n[a] as f64) as usize).min(n[a] - 1))
+    };
+    let min_image = |d: f64, a: usize| {
+        if periodic && d > 0.5 * size[a] {
+            d - size[a]
+        } else if periodic && d < -0.5 * size[a] {
+            d + size[a]
+        } else {
+            d
+        }
+    };
+    let mut placed: Vec<Particle> = Vec::with_capacity(spec.count);
+    for &r in &radii {
+        // Centres keep a radius from walls (and from an open region's edge).
+        let margin = if periodic { 0.0 } else { r };
+        if 2.0 * margin >= size[0] || 2.0 * margin >= size[1] {
+            return Err(SceneError::CannotPlace {
+                placed: placed.len(),
+                requested: spec.count,
+            });
+        }
+        let mut found = None;
+        'attempt: for _ in 0..ATTEMPTS {
+            let pos =
+                [0, 1].map(|a| min[a] + margin + (size[a] - 2.0 * margin) * rng.random::<f64>());
+            let pos = [0, 1].map(|a| if pos[a] >= max[a] { min[a] } else { pos[a] });
+            let c = cell_of(pos);
+            // Large discs reach further than one cell of the placement grid.
+            let span =
+                [0, 1].map(|a| (((r + r_hi) * s / size[a] * n[a] as f64).ceil() as isize).max(1));
+            for dy in -span[1]..=span[1] {
+                for dx in -span[0]..=span[0] {
+                    let (cx, cy) = (c[0] as isize + dx, c[1] as isize + dy);
+                    let (cx, cy) = if periodic {
+                        (cx.rem_euclid(n[0] as isize), cy.rem_euclid(n[1] as isize))
+                    } else if cx < 0 || cy < 0 || cx >= n[0] as isize || cy >= n[1] as isize {
+                        continue;
+                    } else {
+                        (cx, cy)
+                    };
+                    for &j in &cells[cy as usize * n[0] + cx as usize] {
+                        let q: &Particle = &placed[j];
+                        let dxp = min_image(pos[0] - q.position[0], 0);
+                        let dyp = min_image(pos[1] - q.position[1], 1);
+                        if (dxp * dxp + dyp * dyp).sqrt() <= (r + q.radius) * s {
+                            continue 'attempt;
+                        }
+                    }
+                }
+            }
+            found = Some((pos, c));
+            break;
+        }
+        let Some((pos, c)) = found else {
+            return Err(SceneError::CannotPlace {
+                placed: placed.len(),
+                requested: spec.count,
+            });
+        };
+        cells[c[1] * n[0] + c[0]].push(placed.len());
+        placed.push(Particle::new(pos, [0.0, 0.0], r));
+    }
+
+    for p in &mut placed {
+        let v = match spec.speeds {
+            Speeds::Fixed(speed) => {
+                let angle = std::f64::consts::TAU * rng.random::<f64>();
+                [speed * angle.cos(), speed * angle.sin()]
+            }
+            Speeds::Uniform(a) => [0, 1].map(|_| a * (2.0 * rng.random::<f64>() - 1.0)),
+            Speeds::Temperature(kt) => {
+                let m = config
+                    .mass_model
+                    .mass(p.radius, std::f64::consts::PI * p.radius * p.radius);
+                let sigma = (kt / m).sqrt();
+                let [a, b] = standard_normal_pair(&mut rng);
+                [sigma * a, sigma * b]
+            }
+        };
+        p.velocity = [v[0] + spec.drift[0], v[1] + spec.drift[1]];
+    }
+    Ok(placed)
+}
+
+/// Two independent standard normal numbers (Box–Muller).
+fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
+    // 1 - u is in (0, 1], so the logarithm is finite.
+    let u1 = 1.0 - rng.random::<f64>();
+    let u2 = rng.random::<f64>();
+    let radius = (-2.0 * u1.ln()).sqrt();
+    let angle = std::f64::consts::TAU * u2;
+    [radius * angle.cos(), radius * angle.sin()]
+}
+
+/// The discs of a lattice, row by row.
+pub fn lattice(spec: &Lattice) -> Vec<Particle> {
+    let mut out = Vec::with_capacity(spec.counts[0] * spec.counts[1]);
+    for j in 0..spec.counts[1] {
+        for i in 0..spec.counts[0] {
+            let pos = [
+                spec.origin[0] + i as f64 * spec.spacing[0],
+                spec.origin[1] + j as f64 * spec.spacing[1],
+            ];
+            out.push(Particle::new(pos, spec.velocity, spec.radius));
+        }
+    }
+    out
+}
+
+/// The 2D Maxwell–Boltzmann speed distribution (a Rayleigh distribution): the probability
+/// that a disc of mass `m` at temperature `kt` has speed at most `v`.
+pub fn maxwell_boltzmann_cdf(v: f64, kt: f64, m: f64) -> f64 {
+    1.0 - (-m * v * v / (2.0 * kt)).exp()
+}
+
+/// Its density: `m v / kT · exp(-m v² / 2kT)`.
+pub fn maxwell_boltzmann_pdf(v: f64, kt: f64, m: f64) -> f64 {
+    m * v / kt * (-m * v * v / (2.0 * kt)).exp()
+}
+
+/// The temperature `kT` of `count` discs from their total kinetic energy (in the frame where
+/// the total momentum is zero): in 2D, equipartition gives `<½ m v²> = kT` per disc.
+pub fn temperature(kinetic_energy: f64, count: usize) -> f64 {
+    kinetic_energy / count.max(1) as f64
+}

@@ -1,0 +1,48 @@
+//! What a step reports: energy, momentum, collisions, wall impulses, overlap.
+
+use serde::{Deserialize, Serialize};
+
+use crate::boundary::WallImpulse;
+use crate::config::MassModel;
+use crate::parallel::{CHUNK, Executor};
+use crate::particles::Particles;
+
+/// Measurements of the last [`crate::World::step`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepStats {
+    /// Total kinetic energy `Σ ½ m v²` after the step, with the active mass model.
+    pub kinetic_energy: f64,
+    /// Total linear momentum `Σ m v` after the step, with the active mass model.
+    pub momentum: [f64; 2],
+    /// Colliding pairs found (distance <= collision distance), summed over the substeps.
+    pub pairs: usize,
+    /// Momentum delivered to each wall during the step, summed over the substeps.
+    pub wall_impulse: WallImpulse,
+    /// Largest `collision_distance - distance` among the pairs found in any substep, or 0.
+    pub max_overlap: f64,
+}
+
+/// Kinetic energy and momentum of all discs, summed in fixed chunks (thread-count independent).
+pub(crate) fn energy_and_momentum(
+    p: &Particles,
+    mass_model: MassModel,
+    exec: &Executor,
+) -> (f64, [f64; 2]) {
+    let n = p.len();
+    let partial = exec.map_index(0..n.div_ceil(CHUNK), |chunk| {
+        let (mut e, mut px, mut py) = (0.0, 0.0, 0.0);
+        for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
+            let m = mass_model.mass(p.radius[i], p.mass[i]);
+            let (vx, vy) = (p.vx[i], p.vy[i]);
+            e += 0.5 * m * (vx * vx + vy * vy);
+            px += m * vx;
+            py += m * vy;
+        }
+        (e, px, py)
+    });
+    partial
+        .iter()
+        .fold((0.0, [0.0, 0.0]), |(e, [px, py]), &(de, dx, dy)| {
+            (e + de, [px + dx, py + dy])
+        })
+}

@@ -1,0 +1,382 @@
+//! The world: configuration, particles, and the step that ties the stages together.
+//!
+//! One step is `substeps` times: integrate (with the boundary) → bin into the grids →
+//! find the colliding pairs → resolve them in canonical order; then measure. Inputs are
+//! validated at the edges (`new`, `add_particle`, `set_config`, loading a checkpoint), so the
+//! step itself cannot fail for any state reachable through this API.
+
+use std::sync::OnceLock;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::broadphase::{self, Broadphase};
+use crate::config::{Config, ConfigError};
+use crate::integrate::integrate;
+use crate::parallel::{Executor, ThreadsError};
+use crate::particles::{Particle, ParticleError, ParticleId, Particles, fits_boundary, fits_size};
+use crate::solver::resolve_all;
+use crate::stats::{StepStats, energy_and_momentum};
+
+/// A 2D world of discs. See the [crate docs](crate) for an example.
+///
+/// `World` serializes with serde (configuration, particles in storage order, time, step
+/// count); a world loaded from that data continues bit-identically. Loading validates
+/// everything, like [`World::new`] and [`World::add_particle`] do.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(try_from = "WorldState")]
+pub struct World {
+    config: Config,
+    particles: Particles,
+    next_id: u32,
+    time: f64,
+    steps: u64,
+    stats: StepStats,
+    #[serde(skip)]
+    broadphase: Broadphase,
+    #[serde(skip)]
+    exec: Executor,
+    /// `index_of[id]` = storage index, built on demand after each step.
+    #[serde(skip)]
+    index_of: OnceLock<Vec<u32>>,
+}
+
+/// Why a step was refused.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum StepError {
+    /// The time step is not a finite number `> 0`.
+    #[error("time step dt = {0} must be finite and > 0")]
+    InvalidTimeStep(f64),
+}
+
+/// Why a configuration or loaded state was refused.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum WorldError {
+    /// The configuration is invalid.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A particle does not fit the configuration.
+    #[error("particle {id:?}: {error}")]
+    Particle {
+        /// The particle's id.
+        id: ParticleId,
+        /// What is wrong with it.
+        error: ParticleError,
+    },
+    /// Loaded data is inconsistent (array lengths, duplicate ids).
+    #[error("inconsistent world data: {0}")]
+    Inconsistent(String),
+}
+
+impl World {
+    /// An empty world; fails if the configuration is invalid.
+    pub fn new(config: Config) -> Result<World, ConfigError> {
+        config.validate()?;
+        Ok(World {
+            config,
+            particles: Particles::default(),
+            next_id: 0,
+            time: 0.0,
+            steps: 0,
+            stats: StepStats::default(),
+            broadphase: Broadphase::default(),
+            exec: Executor::default(),
+            index_of: OnceLock::new(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Replaces the configuration. Fails, leaving the world unchanged, if the configuration is
+    /// invalid or a particle does not fit it (outside a new box, too large for it).
+    pub fn set_config(&mut self, config: Config) -> Result<(), WorldError> {
+        config.validate()?;
+        let p = &self.particles;
+        for i in 0..p.len() {
+            fits_boundary([p.x[i], p.y[i]], p.radius[i], &config)
+                .map_err(|error| WorldError::Particle { id: p.id[i], error })?;
+        }
+        self.config = config;
+        self.refresh_stats();
+        Ok(())
+    }
+
+    /// Adds a disc and returns its id. Fails, leaving the world unchanged, on a non-finite
+    /// position or velocity, a radius or mass that is not finite and positive, or a centre
+    /// outside the box.
+    pub fn add_particle(&mut self, particle: Particle) -> Result<ParticleId, ParticleError> {
+        self.add_particles([particle])
+            .map(|ids| ids[0])
+            .map_err(|(_, e)| e)
+    }
+
+    /// Adds discs all or nothing: on the first invalid one, returns its index in the input
+    /// and the error, and the world is unchanged.
+    pub fn add_particles(
+        &mut self,
+        particles: impl IntoIterator<Item = Particle>,
+    ) -> Result<Vec<ParticleId>, (usize, ParticleError)> {
+        let start = self.particles.len();
+        let mut ids = Vec::new();
+        for (k, particle) in particles.into_iter().enumerate() {
+            let checked = particle.validate(&self.config).and_then(|()| {
+                u32::try_from(start + k)
+                    .ok()
+                    .filter(|&id| id < u32::MAX)
+                    .ok_or(ParticleError::TooMany)
+            });
+            if let Err(e) = checked {
+                self.particles.truncate(start);
+                return Err((k, e));
+            }
+            let id = ParticleId(self.next_id + k as u32);
+            self.particles.push(id, &particle);
+            ids.push(id);
+        }
+        self.next_id += ids.len() as u32;
+        self.index_of = OnceLock::new();
+        self.refresh_stats();
+        Ok(ids)
+    }
+
+    /// Runs `threads` worker threads for the step (1 = on the calling thread, the default).
+    /// Results are bit-identical for every thread count.
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
+        self.exec = Executor::new(threads)?;
+        Ok(())
+    }
+
+    /// The number of worker threads the step uses.
+    pub fn threads(&self) -> usize {
+        self.exec.threads()
+    }
+
+    /// Advances the world by `dt`, in `config.substeps` substeps, and returns what it measured.
+    pub fn step(&mut self, dt: f64) -> Result<&StepStats, StepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StepError::InvalidTimeStep(dt));
+        }
+        let h = dt / self.config.substeps as f64;
+        let mut stats = StepStats::default();
+        for _ in 0..self.config.substeps {
+            let impulse = integrate(&mut self.particles, &self.config, h, &self.exec);
+            stats.wall_impulse.add(&impulse);
+            self.broadphase.rebuild(&mut self.particles, &self.config);
+            let found = self
+                .broadphase
+                .find_pairs(&self.particles, &self.config, &self.exec);
+            stats.pairs += found.pairs;
+            stats.max_overlap = stats.max_overlap.max(found.max_overlap);
+            resolve_all(
+                &self.broadphase,
+                &mut self.particles,
+                &self.config,
+                &self.exec,
+            );
+        }
+        (stats.kinetic_energy, stats.momentum) =
+            energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
+        self.stats = stats;
+        self.time += dt;
+        self.steps += 1;
+        self.index_of = OnceLock::new();
+        Ok(&self.stats)
+    }
+
+    /// What the last step measured (energy and momentum are kept current when particles are
+    /// added or the configuration changes).
+    pub fn stats(&self) -> &StepStats {
+        &self.stats
+    }
+
+    /// Simulated time: the sum of the `dt`s stepped.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Number of steps taken.
+    pub fn step_count(&self) -> u64 {
+        self.steps
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.particles.len()
+    }
+
+    /// `true` when the world holds no particles.
+    pub fn is_empty(&self) -> bool {
+        self.particles.is_empty()
+    }
+
+    /// The particle arrays, in storage order (which changes every step; ids do not).
+    pub fn particles(&self) -> &Particles {
+        &self.particles
+    }
+
+    /// The storage index of particle `id` now.
+    pub fn index_of(&self, id: ParticleId) -> Option<usize> {
+        let map = self.index_of.get_or_init(|| {
+            let mut map = vec![u32::MAX; self.next_id as usize];
+            for (i, id) in self.particles.id.iter().enumerate() {
+                map[id.0 as usize] = i as u32;
+            }
+            map
+        });
+        map.get(id.0 as usize)
+            .filter(|&&i| i != u32::MAX)
+            .map(|&i| i as usize)
+    }
+
+    /// Particle `id` as it is now.
+    pub fn particle(&self, id: ParticleId) -> Option<Particle> {
+        let mut p = self.particles.get(self.index_of(id)?)?;
+        if self.config.mass_model != crate::MassModel::PerParticle {
+            p.mass = Some(self.config.mass_model.mass(p.radius, 0.0));
+        }
+        Some(p)
+    }
+
+    /// Every particle in id order.
+    pub fn particles_by_id(&self) -> Vec<(ParticleId, Particle)> {
+        let mut ids: Vec<ParticleId> = self.particles.id.clone();
+        ids.sort_unstable();
+        ids.into_iter()
+            .filter_map(|id| Some((id, self.particle(id)?)))
+            .collect()
+    }
+
+    /// Sets the velocity of particle `id` (for interactive tools). Fails on an unknown id or a
+    /// non-finite velocity.
+    pub fn set_velocity(
+        &mut self,
+        id: ParticleId,
+        velocity: [f64; 2],
+    ) -> Result<(), ParticleError> {
+        if !velocity.iter().all(|v| v.is_finite()) {
+            return Err(ParticleError::NonFiniteVelocity(velocity));
+        }
+        let i = self.index_of(id).ok_or(ParticleError::UnknownId(id))?;
+        self.particles.vx[i] = velocity[0];
+        self.particles.vy[i] = velocity[1];
+        self.refresh_stats();
+        Ok(())
+    }
+
+    /// The pairs within the collision distance right now, as sorted id pairs, found by the
+    /// grid. The state is not changed (only the storage order may be).
+    pub fn colliding_pairs(&mut self) -> Vec<(ParticleId, ParticleId)> {
+        self.broadphase.rebuild(&mut self.particles, &self.config);
+        self.broadphase
+            .find_pairs(&self.particles, &self.config, &self.exec);
+        self.index_of = OnceLock::new();
+        self.broadphase.pair_ids(&self.particles)
+    }
+
+    /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
+    /// reference the grid is tested against. O(N²): for tests and small worlds.
+    pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
+        broadphase::brute_force_pairs(&self.particles, &self.config)
+    }
+
+    /// A 64-bit FNV-1a hash of the state (ids, positions, velocities, radii, in id order,
+    /// bit for bit) and the step count: equal hashes mean identical runs, on any platform.
+    pub fn state_hash(&self) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325u64;
+        let mut eat = |bytes: [u8; 8]| {
+            for b in bytes {
+                hash = (hash ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        eat(self.steps.to_le_bytes());
+        let p = &self.particles;
+        for id in 0..self.next_id {
+            if let Some(i) = self.index_of(ParticleId(id)) {
+                eat((id as u64).to_le_bytes());
+                for v in [p.x[i], p.y[i], p.vx[i], p.vy[i], p.radius[i]] {
+                    eat(v.to_bits().to_le_bytes());
+                }
+            }
+        }
+        hash
+    }
+
+    fn refresh_stats(&mut self) {
+        (self.stats.kinetic_energy, self.stats.momentum) =
+            energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
+    }
+}
+
+/// The serialized form of a [`World`], validated on the way in.
+#[derive(Deserialize)]
+struct WorldState {
+    config: Config,
+    particles: Particles,
+    next_id: u32,
+    time: f64,
+    steps: u64,
+    stats: StepStats,
+}
+
+impl TryFrom<WorldState> for World {
+    type Error = WorldError;
+
+    fn try_from(state: WorldState) -> Result<World, WorldError> {
+        let mut world = World::new(state.config)?;
+        let p = &state.particles;
+        let n = p.len();
+        let lengths = [
+            p.x.len(),
+            p.y.len(),
+            p.vx.len(),
+            p.vy.len(),
+            p.radius.len(),
+            p.mass.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(WorldError::Inconsistent(format!(
+                "{n} ids but array lengths {lengths:?}"
+            )));
+        }
+        let mut seen = vec![false; state.next_id as usize];
+        for i in 0..n {
+            let id = p.id[i];
+            match seen.get_mut(id.0 as usize) {
+                Some(s) if !*s => *s = true,
+                _ => {
+                    return Err(WorldError::Inconsistent(format!(
+                        "id {} is repeated or not below next_id {}",
+                        id.0, state.next_id
+                    )));
+                }
+            }
+            // Positions may sit slightly outside the walls after an overlap push, so a loaded
+            // state is checked for finite values and sizes, not for the box.
+            let particle = Particle {
+                position: [p.x[i], p.y[i]],
+                velocity: [p.vx[i], p.vy[i]],
+                radius: p.radius[i],
+                mass: Some(p.mass[i]),
+            };
+            particle
+                .validate_values()
+                .and_then(|()| fits_size(particle.radius, &world.config))
+                .map_err(|error| WorldError::Particle { id, error })?;
+        }
+        if !(state.time.is_finite()) {
+            return Err(WorldError::Inconsistent(format!(
+                "time {} is not finite",
+                state.time
+            )));
+        }
+        world.particles = state.particles;
+        world.next_id = state.next_id;
+        world.time = state.time;
+        world.steps = state.steps;
+        world.stats = state.stats;
+        Ok(world)
+    }
+}
