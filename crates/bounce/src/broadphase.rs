@@ -25,7 +25,7 @@
 //! data only, so one thread and eight give the same bits.
 //!
 //! # Open worlds
-//! Cell coordinates are clamped to the grid. Clamping never increases the distance between
+//! Cell coordinates are clamped to the grid (wrapped, in a periodic box). Clamping never increases the distance between
 //! two cell coordinates, so partners stay within one cell of each other and the stencil and
 //! block arguments hold. An open world's grid covers the bulk of its discs (around the median
 //! position, capped at a few cells per disc); discs far away pile into edge cells, which
@@ -68,8 +68,14 @@ impl LevelGrid {
     #[inline]
     fn coord(&self, v: f64, axis: usize) -> usize {
         let c = ((v - self.origin[axis]) * self.inv_cell[axis]).floor();
-        // `as` saturates (and maps NaN to 0), so this never panics.
-        (c as isize).clamp(0, self.n[axis] as isize - 1) as usize
+        // `as` saturates (and maps NaN to 0), so this never panics. A periodic coordinate
+        // wraps, since an overlap push can leave a centre a little outside the box.
+        let n = self.n[axis] as isize;
+        if self.wrap {
+            (c as isize).rem_euclid(n) as usize
+        } else {
+            (c as isize).clamp(0, n - 1) as usize
+        }
     }
 
     /// Maps a possibly out-of-range cell coordinate to the grid: wrapped when periodic,
@@ -346,9 +352,9 @@ impl Broadphase {
         let total = n[0] as f64 * n[1] as f64;
         if total > max_cells as f64 {
             let shrink = (total / max_cells as f64).sqrt();
-            for axis in 0..2 {
-                let fewer = ((n[axis] as f64 / shrink).floor() as usize).max(1);
-                n[axis] = if wrap && fewer < 3 { 1 } else { fewer };
+            for cells in &mut n {
+                let fewer = ((*cells as f64 / shrink).floor() as usize).max(1);
+                *cells = if wrap && fewer < 3 { 1 } else { fewer };
             }
         }
         let cell = [0, 1].map(|axis| {
@@ -597,7 +603,7 @@ mod tests {
             for side in [1, 2, 3, 7, 50] {
                 let s = block_splits(n, side);
                 let nb = s.len() - 1;
-                assert!(nb == 1 || nb % 2 == 0, "n {n} side {side}: {nb} blocks");
+                assert!(nb == 1 || nb.is_multiple_of(2), "n {n} side {side}: {nb} blocks");
                 assert!(s.windows(2).all(|w| nb == 1 || w[1] - w[0] >= 2));
                 assert_eq!((s[0], s[nb]), (0, n));
             }

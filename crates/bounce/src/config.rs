@@ -68,7 +68,7 @@ impl Default for Config {
 
 /// The edge of the world.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Boundary {
     /// No boundary: particles fly freely. The grid follows the particles.
     Open,

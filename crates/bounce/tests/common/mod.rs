@@ -1,0 +1,53 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use bounce::scene::{self, Gas, Speeds};
+use bounce::{Config, World};
+
+/// A world of `count` discs from a gas spec, with the given config.
+pub fn gas_world(
+    config: Config,
+    count: usize,
+    radius: [f64; 2],
+    speeds: Speeds,
+    drift: [f64; 2],
+    seed: u64,
+) -> World {
+    let discs = scene::gas(
+        &Gas {
+            count,
+            radius,
+            region: None,
+            speeds,
+            drift,
+            seed,
+        },
+        &config,
+    )
+    .expect("gas fits");
+    let mut world = World::new(config).expect("valid config");
+    world.add_particles(discs).expect("valid discs");
+    world
+}
+
+/// Side of a square box holding `count` discs of mean squared radius `r2` at packing `phi`.
+pub fn box_side(count: usize, r2: f64, phi: f64) -> f64 {
+    (count as f64 * std::f64::consts::PI * r2 / phi).sqrt()
+}
+
+/// `|a - b| <= tol * max(|b|, 1e-300)`.
+pub fn assert_rel(a: f64, b: f64, tol: f64, what: &str) {
+    let rel = (a - b).abs() / b.abs().max(1e-300);
+    assert!(
+        rel <= tol,
+        "{what}: {a} vs {b}, relative difference {rel:e} > {tol:e}"
+    );
+}
+
+/// `|a - b| <= tol`.
+pub fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= tol,
+        "{what}: {a} vs {b} (tolerance {tol:e})"
+    );
+}
