@@ -603,7 +603,10 @@ mod tests {
             for side in [1, 2, 3, 7, 50] {
                 let s = block_splits(n, side);
                 let nb = s.len() - 1;
-                assert!(nb == 1 || nb.is_multiple_of(2), "n {n} side {side}: {nb} blocks");
+                assert!(
+                    nb == 1 || nb.is_multiple_of(2),
+                    "n {n} side {side}: {nb} blocks"
+                );
                 assert!(s.windows(2).all(|w| nb == 1 || w[1] - w[0] >= 2));
                 assert_eq!((s[0], s[nb]), (0, n));
             }
