@@ -34,8 +34,8 @@
 use std::ops::Range;
 
 use crate::config::{Boundary, Config};
-use crate::parallel::Executor;
-use crate::particles::{ParticleId, Particles};
+use crate::parallel::{CHUNK, Executor};
+use crate::particles::{ParticleId, Particles, PermuteScratch};
 
 /// At most this many grid levels (interaction diameters spanning a factor 2^16).
 const MAX_LEVELS: usize = 16;
@@ -67,14 +67,14 @@ impl LevelGrid {
     /// The (clamped) cell coordinate of `v` along `axis`.
     #[inline]
     fn coord(&self, v: f64, axis: usize) -> usize {
-        let c = ((v - self.origin[axis]) * self.inv_cell[axis]).floor();
-        // `as` saturates (and maps NaN to 0), so this never panics. A periodic coordinate
-        // wraps, since an overlap push can leave a centre a little outside the box.
+        let c = floor_to_isize((v - self.origin[axis]) * self.inv_cell[axis]);
+        // A periodic coordinate wraps, since an overlap push can leave a centre a little
+        // outside the box.
         let n = self.n[axis] as isize;
         if self.wrap {
-            (c as isize).rem_euclid(n) as usize
+            c.rem_euclid(n) as usize
         } else {
-            (c as isize).clamp(0, n - 1) as usize
+            c.clamp(0, n - 1) as usize
         }
     }
 
@@ -118,9 +118,10 @@ pub(crate) struct Broadphase {
     // Scratch reused between steps.
     key: Vec<u32>,
     order: Vec<u32>,
+    /// Per-disc level; empty when all discs share level 0.
     level_of: Vec<u8>,
     f64_scratch: Vec<f64>,
-    id_scratch: Vec<ParticleId>,
+    scratch: PermuteScratch,
 }
 
 /// What pair detection measured.
@@ -165,6 +166,14 @@ impl Periodicity {
     }
 }
 
+/// `floor(v)` as an integer, saturating (NaN gives 0). Inlined, unlike `f64::floor` on
+/// baseline x86-64, which calls libm.
+#[inline(always)]
+fn floor_to_isize(v: f64) -> isize {
+    let t = v as isize;
+    if (t as f64) > v { t - 1 } else { t }
+}
+
 /// The level of a disc of interaction diameter `d` given the smallest one, `d_min`.
 #[inline]
 fn level_of(d: f64, d_min: f64) -> usize {
@@ -203,7 +212,7 @@ fn block_splits(n: usize, side: usize) -> Vec<usize> {
 impl Broadphase {
     /// Bins the discs into the level grids and reorders the particle arrays into canonical
     /// cell order (by level, cell, then id).
-    pub(crate) fn rebuild(&mut self, p: &mut Particles, config: &Config) {
+    pub(crate) fn rebuild(&mut self, p: &mut Particles, config: &Config, exec: &Executor) {
         let count = p.len();
         self.levels.clear();
         self.blocks.clear();
@@ -215,46 +224,71 @@ impl Broadphase {
         }
         let s = config.collision_radius_scale;
 
-        // 1. Levels: a band of interaction diameters each.
-        let r_min = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        // 1. Levels: a band of interaction diameters each. One band is the common case
+        // (equal or similar discs): then no per-disc level is stored at all.
+        let (r_min, r_max) = p
+            .radius
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+                (lo.min(r), hi.max(r))
+            });
         let d_min = 2.0 * r_min * s;
-        self.level_of.clear();
-        self.level_of
-            .extend(p.radius.iter().map(|&r| level_of(2.0 * r * s, d_min) as u8));
-        let mut stats = [(0usize, 0.0f64); MAX_LEVELS];
-        for (&l, &r) in self.level_of.iter().zip(&p.radius) {
-            let (n, max_r) = &mut stats[l as usize];
-            *n += 1;
-            *max_r = max_r.max(r);
-        }
-        // Compact the non-empty levels.
-        let mut compact = [0u8; MAX_LEVELS];
+        let single_level = level_of(2.0 * r_max * s, d_min) == 0;
         let mut used = Vec::new();
-        for (l, &(n, max_r)) in stats.iter().enumerate() {
-            if n > 0 {
-                compact[l] = used.len() as u8;
-                used.push((l, n, max_r));
+        if single_level {
+            self.level_of.clear();
+            used.push((count, r_max));
+        } else {
+            self.level_of.clear();
+            self.level_of
+                .extend(p.radius.iter().map(|&r| level_of(2.0 * r * s, d_min) as u8));
+            let mut stats = [(0usize, 0.0f64); MAX_LEVELS];
+            for (&l, &r) in self.level_of.iter().zip(&p.radius) {
+                let (n, max_r) = &mut stats[l as usize];
+                *n += 1;
+                *max_r = max_r.max(r);
             }
-        }
-        for l in &mut self.level_of {
-            *l = compact[*l as usize];
+            // Compact the non-empty levels.
+            let mut compact = [0u8; MAX_LEVELS];
+            for (l, &(n, max_r)) in stats.iter().enumerate() {
+                if n > 0 {
+                    compact[l] = used.len() as u8;
+                    used.push((n, max_r));
+                }
+            }
+            for l in &mut self.level_of {
+                *l = compact[*l as usize];
+            }
         }
 
         // 2. One grid per level.
         let mut cell_offset = 0;
-        for (compact_level, &(_, n_level, max_r)) in used.iter().enumerate() {
-            let grid = self.level_grid(p, config, compact_level, n_level, max_r, cell_offset);
+        for (level, &(n_level, max_r)) in used.iter().enumerate() {
+            let grid = self.level_grid(p, config, level, n_level, max_r, cell_offset);
             cell_offset += grid.n[0] * grid.n[1];
             self.levels.push(grid);
         }
         let total_cells = cell_offset;
 
         // 3. Counting sort by global cell index.
-        self.key.clear();
-        for i in 0..count {
-            let g = &self.levels[self.level_of[i] as usize];
-            let (cx, cy) = (g.coord(p.x[i], 0), g.coord(p.y[i], 1));
-            self.key.push(g.cell_index(cx, cy) as u32);
+        self.key.resize(count, 0);
+        {
+            let (levels, level_of, p) = (&self.levels, &self.level_of, &*p);
+            let mut chunks: Vec<(usize, &mut [u32])> =
+                self.key.chunks_mut(CHUNK).enumerate().collect();
+            exec.for_each_mut(&mut chunks, |_, (c, keys)| {
+                let base = *c * CHUNK;
+                for (k, key) in keys.iter_mut().enumerate() {
+                    let i = base + k;
+                    let g = if level_of.is_empty() {
+                        &levels[0]
+                    } else {
+                        &levels[level_of[i] as usize]
+                    };
+                    let (cx, cy) = (g.coord(p.x[i], 0), g.coord(p.y[i], 1));
+                    *key = g.cell_index(cx, cy) as u32;
+                }
+            });
         }
         self.cell_start.clear();
         self.cell_start.resize(total_cells + 1, 0);
@@ -264,11 +298,10 @@ impl Broadphase {
         for c in 0..total_cells {
             self.cell_start[c + 1] += self.cell_start[c];
         }
-        self.order.clear();
         self.order.resize(count, 0);
         {
-            // Place each disc at its cell's next free slot (cell_start is shifted by one here
-            // and restored by the placement itself).
+            // Place each disc at its cell's next free slot; afterwards slot `c` holds the end
+            // of cell `c`, and one shift restores the starts.
             let next = &mut self.cell_start;
             for (i, &k) in self.key.iter().enumerate() {
                 let slot = &mut next[k as usize];
@@ -279,18 +312,20 @@ impl Broadphase {
             next[0] = 0;
         }
         // Within a cell, order by id, so the canonical order does not depend on storage order.
+        // Storage is already in this order from the last step except for discs that changed
+        // cell, so an insertion sort does almost no work.
         for c in 0..total_cells {
-            let run = &mut self.order[self.cell_start[c] as usize..self.cell_start[c + 1] as usize];
-            if run.len() > 1 {
-                run.sort_unstable_by_key(|&i| p.id[i as usize]);
+            let (lo, hi) = (self.cell_start[c] as usize, self.cell_start[c + 1] as usize);
+            if hi - lo > 1 {
+                insertion_sort_by_id(&mut self.order[lo..hi], &p.id);
             }
         }
-        p.permute(&self.order, &mut self.f64_scratch, &mut self.id_scratch);
+        p.permute(&self.order, &mut self.scratch, exec);
 
         // 4. Blocks and phases.
         for (level, g) in self.levels.iter().enumerate() {
             let cells = (g.n[0] * g.n[1]) as f64;
-            let n_level = used[level].1 as f64;
+            let n_level = used[level].0 as f64;
             let side = (DISCS_PER_BLOCK * cells / n_level).sqrt().ceil() as usize;
             let xs = block_splits(g.n[0], side);
             let ys = block_splits(g.n[1], side);
@@ -325,7 +360,9 @@ impl Broadphase {
     ) -> LevelGrid {
         let min_cell = 2.0 * max_radius * config.collision_radius_scale;
         // A few cells per disc at most: enough for an O(1) stencil, bounded memory.
-        let max_cells = 4 * n_level + 64;
+        // About one cell per disc at most: fewer, fuller cells beat many empty ones (a
+        // dense gas at cell side = diameter would leave most cells empty).
+        let max_cells = n_level + 64;
         let (origin, width, wrap) = match config.boundary {
             Boundary::Walls { min, max, .. } => (min, [max[0] - min[0], max[1] - min[1]], false),
             Boundary::Periodic { min, max } => (min, [max[0] - min[0], max[1] - min[1]], true),
@@ -393,13 +430,17 @@ impl Broadphase {
     /// Minimum, maximum and median of one coordinate over the discs of `level`.
     fn spread(&mut self, coords: &[f64], level: usize) -> (f64, f64, f64) {
         self.f64_scratch.clear();
-        self.f64_scratch.extend(
-            coords
-                .iter()
-                .zip(&self.level_of)
-                .filter(|&(_, &l)| l as usize == level)
-                .map(|(&v, _)| v),
-        );
+        if self.level_of.is_empty() {
+            self.f64_scratch.extend_from_slice(coords);
+        } else {
+            self.f64_scratch.extend(
+                coords
+                    .iter()
+                    .zip(&self.level_of)
+                    .filter(|&(_, &l)| l as usize == level)
+                    .map(|(&v, _)| v),
+            );
+        }
         let v = &mut self.f64_scratch;
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -449,6 +490,19 @@ impl Broadphase {
     }
 }
 
+/// Sorts storage indices by particle id; linear when already sorted.
+fn insertion_sort_by_id(run: &mut [u32], id: &[ParticleId]) {
+    for k in 1..run.len() {
+        let v = run[k];
+        let mut j = k;
+        while j > 0 && id[run[j - 1] as usize] > id[v as usize] {
+            run[j] = run[j - 1];
+            j -= 1;
+        }
+        run[j] = v;
+    }
+}
+
 fn ordered(a: ParticleId, b: ParticleId) -> (ParticleId, ParticleId) {
     if a < b { (a, b) } else { (b, a) }
 }
@@ -468,8 +522,8 @@ impl Context<'_> {
         self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
     }
 
-    /// Tests `a` against each disc of `others`, recording hits; returns the largest overlap.
-    #[inline]
+    /// Tests `a` against each disc of `others`, recording hits and the largest overlap.
+    #[inline(always)]
     fn test(&self, a: usize, others: Range<usize>, out: &mut Vec<Pair>, max_overlap: &mut f64) {
         let p = self.p;
         let (xa, ya, ra) = (p.x[a], p.y[a], p.radius[a]);
@@ -493,25 +547,33 @@ impl Context<'_> {
     fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) -> f64 {
         let g = &self.levels[block.level];
         let mut max_overlap = 0.0;
+        let finer = &self.levels[..block.level];
+        let mut neighbours = [0..0, 0..0, 0..0, 0..0];
         for cy in block.y.clone() {
             for cx in block.x.clone() {
                 let own = self.cell_range(g.cell_index(cx, cy));
+                if own.is_empty() {
+                    continue;
+                }
+                // The forward half-stencil's cells, looked up once per cell.
+                let mut count = 0;
+                for &[dx, dy] in &g.forward {
+                    if let (Some(nx), Some(ny)) = (
+                        g.neighbour(cx as isize + dx, 0),
+                        g.neighbour(cy as isize + dy, 1),
+                    ) {
+                        neighbours[count] = self.cell_range(g.cell_index(nx, ny));
+                        count += 1;
+                    }
+                }
                 for a in own.clone() {
-                    // Same cell: later discs only.
+                    // Same cell: later discs only; then the same level's forward cells.
                     self.test(a, a + 1..own.end, out, &mut max_overlap);
-                    // Same level: the forward half-stencil.
-                    for &[dx, dy] in &g.forward {
-                        let (Some(nx), Some(ny)) = (
-                            g.neighbour(cx as isize + dx, 0),
-                            g.neighbour(cy as isize + dy, 1),
-                        ) else {
-                            continue;
-                        };
-                        let range = self.cell_range(g.cell_index(nx, ny));
-                        self.test(a, range, out, &mut max_overlap);
+                    for range in &neighbours[..count] {
+                        self.test(a, range.clone(), out, &mut max_overlap);
                     }
                     // Finer levels: every cell under this disc's reach.
-                    for fine in &self.levels[..block.level] {
+                    for fine in finer {
                         self.scan_finer(a, fine, out, &mut max_overlap);
                     }
                 }
@@ -526,10 +588,10 @@ impl Context<'_> {
         let reach = (p.radius[a] + fine.max_radius) * self.scale;
         let pos = [p.x[a], p.y[a]];
         let span = |axis: usize| -> Vec<usize> {
-            let lo = ((pos[axis] - reach - fine.origin[axis]) * fine.inv_cell[axis]).floor();
-            let hi = ((pos[axis] + reach - fine.origin[axis]) * fine.inv_cell[axis]).floor();
+            let lo = floor_to_isize((pos[axis] - reach - fine.origin[axis]) * fine.inv_cell[axis]);
+            let hi = floor_to_isize((pos[axis] + reach - fine.origin[axis]) * fine.inv_cell[axis]);
             let n = fine.n[axis] as isize;
-            let (lo, hi) = (lo.max(-1e15) as isize, hi.min(1e15) as isize);
+            let (lo, hi) = (lo.max(-(1 << 50)), hi.min(1 << 50));
             if fine.wrap {
                 if hi - lo + 1 >= n {
                     (0..n as usize).collect()

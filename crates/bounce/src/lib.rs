@@ -52,5 +52,5 @@ pub use boundary::WallImpulse;
 pub use config::{Boundary, Config, ConfigError, MassModel, RestitutionModel, VelocityUpdate};
 pub use parallel::ThreadsError;
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
-pub use stats::StepStats;
+pub use stats::{StepProfile, StepStats};
 pub use world::{StepError, World, WorldError};

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::config::{Boundary, Config};
+use crate::parallel::Executor;
 
 /// A particle's stable identity, assigned in order of addition from 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -249,30 +250,34 @@ impl Particles {
         self.mass.truncate(len);
     }
 
-    /// Reorders every array so that new index `k` holds old index `order[k]`.
-    /// `scratch` is reused between calls to avoid allocation.
-    pub(crate) fn permute(
-        &mut self,
-        order: &[u32],
-        scratch: &mut Vec<f64>,
-        id_scratch: &mut Vec<ParticleId>,
-    ) {
+    /// Reorders every array so that new index `k` holds old index `order[k]`. The arrays are
+    /// gathered into `scratch` and swapped in, one array per task.
+    pub(crate) fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch, exec: &Executor) {
         debug_assert_eq!(order.len(), self.len());
-        fn apply<T: Copy>(v: &mut [T], order: &[u32], scratch: &mut Vec<T>) {
-            scratch.clear();
-            scratch.extend(order.iter().map(|&i| v[i as usize]));
-            v.copy_from_slice(scratch);
+        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32], out: &mut Vec<T>) {
+            out.clear();
+            out.extend(order.iter().map(|&i| v[i as usize]));
+            std::mem::swap(v, out);
         }
-        for v in [
+        let mut tasks: Vec<(&mut Vec<f64>, &mut Vec<f64>)> = [
             &mut self.x,
             &mut self.y,
             &mut self.vx,
             &mut self.vy,
             &mut self.radius,
             &mut self.mass,
-        ] {
-            apply(v, order, scratch);
-        }
-        apply(&mut self.id, order, id_scratch);
+        ]
+        .into_iter()
+        .zip(scratch.f64.iter_mut())
+        .collect();
+        exec.for_each_mut(&mut tasks, |_, (v, out)| gather(v, order, out));
+        gather(&mut self.id, order, &mut scratch.id);
     }
+}
+
+/// Buffers [`Particles::permute`] reuses between steps.
+#[derive(Debug, Default)]
+pub(crate) struct PermuteScratch {
+    f64: [Vec<f64>; 6],
+    id: Vec<ParticleId>,
 }

@@ -22,6 +22,57 @@ pub struct StepStats {
     pub max_overlap: f64,
 }
 
+/// Wall-clock seconds spent in each stage of the last step, summed over its substeps.
+/// All zero on `wasm32`, which has no clock in `std`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepProfile {
+    /// Integration and boundary.
+    pub integrate: f64,
+    /// Levels, grids, counting sort and reordering into cell order.
+    pub bin: f64,
+    /// Pair detection.
+    pub pairs: f64,
+    /// Pair resolution.
+    pub resolve: f64,
+    /// Energy and momentum sums.
+    pub measure: f64,
+}
+
+impl StepProfile {
+    /// Total over the stages.
+    pub fn total(&self) -> f64 {
+        self.integrate + self.bin + self.pairs + self.resolve + self.measure
+    }
+}
+
+/// A stopwatch that reads nothing where `std` has no clock.
+pub(crate) struct Stopwatch {
+    #[cfg(not(target_arch = "wasm32"))]
+    last: std::time::Instant,
+}
+
+impl Stopwatch {
+    pub(crate) fn start() -> Self {
+        Stopwatch {
+            #[cfg(not(target_arch = "wasm32"))]
+            last: std::time::Instant::now(),
+        }
+    }
+
+    /// Seconds since the last lap (or the start).
+    pub(crate) fn lap(&mut self) -> f64 {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let now = std::time::Instant::now();
+            let dt = (now - self.last).as_secs_f64();
+            self.last = now;
+            dt
+        }
+        #[cfg(target_arch = "wasm32")]
+        0.0
+    }
+}
+
 /// Kinetic energy and momentum of all discs, summed in fixed chunks (thread-count independent).
 pub(crate) fn energy_and_momentum(
     p: &Particles,

@@ -16,7 +16,7 @@ use crate::integrate::integrate;
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles, fits_boundary, fits_size};
 use crate::solver::resolve_all;
-use crate::stats::{StepStats, energy_and_momentum};
+use crate::stats::{StepProfile, StepStats, Stopwatch, energy_and_momentum};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///
@@ -32,6 +32,8 @@ pub struct World {
     time: f64,
     steps: u64,
     stats: StepStats,
+    #[serde(skip)]
+    profile: StepProfile,
     #[serde(skip)]
     broadphase: Broadphase,
     #[serde(skip)]
@@ -79,6 +81,7 @@ impl World {
             time: 0.0,
             steps: 0,
             stats: StepStats::default(),
+            profile: StepProfile::default(),
             broadphase: Broadphase::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
@@ -161,25 +164,37 @@ impl World {
         }
         let h = dt / self.config.substeps as f64;
         let mut stats = StepStats::default();
+        let mut profile = StepProfile::default();
+        let mut clock = Stopwatch::start();
         for _ in 0..self.config.substeps {
             let impulse = integrate(&mut self.particles, &self.config, h, &self.exec);
             stats.wall_impulse.add(&impulse);
-            self.broadphase.rebuild(&mut self.particles, &self.config);
+            profile.integrate += clock.lap();
+
+            self.broadphase
+                .rebuild(&mut self.particles, &self.config, &self.exec);
+            profile.bin += clock.lap();
+
             let found = self
                 .broadphase
                 .find_pairs(&self.particles, &self.config, &self.exec);
             stats.pairs += found.pairs;
             stats.max_overlap = stats.max_overlap.max(found.max_overlap);
+            profile.pairs += clock.lap();
+
             resolve_all(
                 &self.broadphase,
                 &mut self.particles,
                 &self.config,
                 &self.exec,
             );
+            profile.resolve += clock.lap();
         }
         (stats.kinetic_energy, stats.momentum) =
             energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
+        profile.measure += clock.lap();
         self.stats = stats;
+        self.profile = profile;
         self.time += dt;
         self.steps += 1;
         self.index_of = OnceLock::new();
@@ -190,6 +205,11 @@ impl World {
     /// added or the configuration changes).
     pub fn stats(&self) -> &StepStats {
         &self.stats
+    }
+
+    /// Where the last step spent its time, stage by stage.
+    pub fn profile(&self) -> &StepProfile {
+        &self.profile
     }
 
     /// Simulated time: the sum of the `dt`s stepped.
@@ -269,7 +289,8 @@ impl World {
     /// The pairs within the collision distance right now, as sorted id pairs, found by the
     /// grid. The state is not changed (only the storage order may be).
     pub fn colliding_pairs(&mut self) -> Vec<(ParticleId, ParticleId)> {
-        self.broadphase.rebuild(&mut self.particles, &self.config);
+        self.broadphase
+            .rebuild(&mut self.particles, &self.config, &self.exec);
         self.broadphase
             .find_pairs(&self.particles, &self.config, &self.exec);
         self.index_of = OnceLock::new();

@@ -92,3 +92,36 @@ fn storage_order_does_not_change_results() {
     run(&mut b, 50);
     assert_eq!(a.state_hash(), b.state_hash());
 }
+
+/// The state hash of the reference run: a 20,000-disc gas (radius 0.5, packing 0.3, walls,
+/// velocities uniform in [-2, 2]², seed 1) after 500 steps of 1/60. A change of this value is
+/// a change of results: make it deliberately, and say why in the commit.
+const GAS_20K_500_STEPS: u64 = 0xebf3_f670_70ad_60ba;
+
+#[test]
+fn reference_gas_hash_is_fixed_for_every_thread_count() {
+    let count = 20_000;
+    let side = box_side(count, 0.25, 0.3);
+    for threads in [1, 2, 4, 8] {
+        let config = Config {
+            boundary: Boundary::walls([0.0, 0.0], [side, side]),
+            ..Config::default()
+        };
+        let mut world = gas_world(
+            config,
+            count,
+            [0.5, 0.5],
+            Speeds::Uniform(2.0),
+            [0.0, 0.0],
+            1,
+        );
+        world.set_threads(threads).unwrap();
+        run(&mut world, 500);
+        assert_eq!(
+            world.state_hash(),
+            GAS_20K_500_STEPS,
+            "{threads} threads: hash {:#x}",
+            world.state_hash()
+        );
+    }
+}

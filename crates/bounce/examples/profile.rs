@@ -1,0 +1,58 @@
+//! Per-stage time of the gas scene: `cargo run --release --example profile [COUNT] [THREADS]`.
+
+use bounce::scene::{self, Gas, Speeds};
+use bounce::{Boundary, Config, StepProfile, World};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let count: usize = args
+        .next()
+        .map(|a| a.parse())
+        .transpose()?
+        .unwrap_or(1_000_000);
+    let threads: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(1);
+    let side = (count as f64 * std::f64::consts::PI * 0.25 / 0.3).sqrt();
+    let config = Config {
+        boundary: Boundary::walls([0.0, 0.0], [side, side]),
+        ..Config::default()
+    };
+    let gas = Gas {
+        count,
+        radius: [0.5, 0.5],
+        region: None,
+        speeds: Speeds::Uniform(2.0),
+        drift: [0.0, 0.0],
+        seed: 1,
+    };
+    let mut world = World::new(config.clone())?;
+    world
+        .add_particles(scene::gas(&gas, &config)?)
+        .map_err(|(i, e)| format!("{i}: {e}"))?;
+    world.set_threads(threads)?;
+    let steps = 20;
+    let mut sum = StepProfile::default();
+    let mut totals = Vec::new();
+    for _ in 0..steps {
+        world.step(1.0 / 60.0)?;
+        let p = world.profile();
+        totals.push(p.total());
+        sum.integrate += p.integrate;
+        sum.bin += p.bin;
+        sum.pairs += p.pairs;
+        sum.resolve += p.resolve;
+        sum.measure += p.measure;
+    }
+    let ms = |s: f64| s * 1e3 / steps as f64;
+    totals.sort_by(f64::total_cmp);
+    println!(
+        "{count} discs, {threads} threads, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
+        totals[steps / 2] * 1e3,
+        ms(sum.integrate),
+        ms(sum.bin),
+        ms(sum.pairs),
+        ms(sum.resolve),
+        ms(sum.measure),
+        ms(sum.total())
+    );
+    Ok(())
+}
