@@ -190,8 +190,17 @@ pub struct ConfigError {
 impl Config {
     /// Checks every field; the first problem is returned, naming the field and its value.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let err = |field, value: String, expected| {
-            Err(ConfigError {
+        match self.problems().into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// Every invalid field, in declaration order.
+    pub fn problems(&self) -> Vec<ConfigError> {
+        let mut out = Vec::new();
+        let mut err = |field, value: String, expected| {
+            out.push(ConfigError {
                 field,
                 value,
                 expected,
@@ -199,7 +208,7 @@ impl Config {
         };
         let s = self.collision_radius_scale;
         if !(s.is_finite() && s > 0.0) {
-            return err(
+            err(
                 "collision_radius_scale",
                 s.to_string(),
                 "must be finite and > 0",
@@ -207,28 +216,27 @@ impl Config {
         }
         let e = self.coefficient_of_restitution;
         if !(0.0..=1.0).contains(&e) {
-            return err(
+            err(
                 "coefficient_of_restitution",
                 e.to_string(),
                 "must be in [0, 1]",
             );
         }
         if !self.gravity.iter().all(|g| g.is_finite()) {
-            return err("gravity", format!("{:?}", self.gravity), "must be finite");
+            err("gravity", format!("{:?}", self.gravity), "must be finite");
         }
         if self.substeps == 0 {
-            return err("substeps", "0".into(), "must be >= 1");
+            err("substeps", "0".into(), "must be >= 1");
         }
         if let Some((min, max)) = self.boundary.bounds() {
             if !min.iter().chain(&max).all(|v| v.is_finite()) {
-                return err(
+                err(
                     "boundary",
                     format!("min {min:?}, max {max:?}"),
                     "corners must be finite",
                 );
-            }
-            if !(min[0] < max[0] && min[1] < max[1]) {
-                return err(
+            } else if !(min[0] < max[0] && min[1] < max[1]) {
+                err(
                     "boundary",
                     format!("min {min:?}, max {max:?}"),
                     "min must be below max on both axes",
@@ -241,13 +249,13 @@ impl Config {
         } = self.boundary
             && !(0.0..=1.0).contains(&w)
         {
-            return err(
+            err(
                 "boundary.wall_restitution",
                 w.to_string(),
                 "must be in [0, 1]",
             );
         }
-        Ok(())
+        out
     }
 
     /// The restitution the walls use.

@@ -1,0 +1,236 @@
+//! A GSD trajectory writer (HOOMD-blue's format, read by OVITO, freud and the `gsd` Python
+//! package), from the published file layer specification, version 2.0.
+//!
+//! Layout: a 256-byte header; data chunks appended frame after frame; at the end, the name
+//! list (NUL-terminated names, padded to 64-byte blocks) and the index (32-byte entries
+//! sorted by frame, then name id, ended by an all-zero entry), and the header rewritten to
+//! point at them. The file is written under a temporary name and renamed when complete.
+//!
+//! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
+//! `particles/{N,position,velocity,diameter,mass,typeid,types}` with particles in id order,
+//! positions relative to the box centre (HOOMD's convention), and `log/kinetic_energy`.
+
+use std::io::{Seek, SeekFrom, Write};
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use bounce::{Boundary, World};
+
+use crate::atomic::AtomicFile;
+
+const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
+const HEADER_SIZE: u64 = 256;
+const NAME_BLOCK: usize = 64;
+
+const fn version(major: u32, minor: u32) -> u32 {
+    (major << 16) | minor
+}
+
+/// The GSD element types this writer uses.
+#[derive(Clone, Copy)]
+enum Type {
+    U8 = 1,
+    U32 = 3,
+    U64 = 4,
+    I8 = 5,
+    F32 = 9,
+    F64 = 10,
+}
+
+struct IndexEntry {
+    frame: u64,
+    n: u64,
+    location: u64,
+    m: u32,
+    id: u16,
+    kind: Type,
+}
+
+/// Writes a trajectory frame by frame; [`GsdWriter::finish`] completes the file.
+pub struct GsdWriter {
+    file: AtomicFile,
+    offset: u64,
+    names: Vec<String>,
+    index: Vec<IndexEntry>,
+    frame: u64,
+}
+
+impl GsdWriter {
+    /// Starts `path`.
+    pub fn create(path: &Path) -> Result<Self> {
+        let mut file = AtomicFile::create(path)?;
+        // Placeholder header, rewritten by `finish`.
+        file.writer().write_all(&[0u8; HEADER_SIZE as usize])?;
+        Ok(GsdWriter {
+            file,
+            offset: HEADER_SIZE,
+            names: Vec::new(),
+            index: Vec::new(),
+            frame: 0,
+        })
+    }
+
+    fn id(&mut self, name: &str) -> u16 {
+        match self.names.iter().position(|n| n == name) {
+            Some(i) => i as u16,
+            None => {
+                self.names.push(name.to_string());
+                (self.names.len() - 1) as u16
+            }
+        }
+    }
+
+    fn chunk(&mut self, name: &str, kind: Type, n: u64, m: u32, bytes: &[u8]) -> Result<()> {
+        let id = self.id(name);
+        self.index.push(IndexEntry {
+            frame: self.frame,
+            n,
+            location: self.offset,
+            m,
+            id,
+            kind,
+        });
+        self.file.writer().write_all(bytes)?;
+        self.offset += bytes.len() as u64;
+        Ok(())
+    }
+
+    /// Appends the world's current state as one frame.
+    pub fn frame(&mut self, world: &World) -> Result<()> {
+        let (centre, size) = box_of(world);
+        let by_id = world.particles_by_id();
+        let n = by_id.len();
+        let f32s = |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> {
+            values.flat_map(|v| (v as f32).to_le_bytes()).collect()
+        };
+        let model = world.config().mass_model;
+
+        self.chunk(
+            "configuration/step",
+            Type::U64,
+            1,
+            1,
+            &world.step_count().to_le_bytes(),
+        )?;
+        self.chunk("configuration/dimensions", Type::U8, 1, 1, &[2])?;
+        let bx = [size[0], size[1], 1.0, 0.0, 0.0, 0.0];
+        self.chunk(
+            "configuration/box",
+            Type::F32,
+            6,
+            1,
+            &f32s(&mut bx.into_iter()),
+        )?;
+        self.chunk("particles/N", Type::U32, 1, 1, &(n as u32).to_le_bytes())?;
+        let pos = f32s(
+            &mut by_id
+                .iter()
+                .flat_map(|(_, p)| [p.position[0] - centre[0], p.position[1] - centre[1], 0.0]),
+        );
+        self.chunk("particles/position", Type::F32, n as u64, 3, &pos)?;
+        let vel = f32s(
+            &mut by_id
+                .iter()
+                .flat_map(|(_, p)| [p.velocity[0], p.velocity[1], 0.0]),
+        );
+        self.chunk("particles/velocity", Type::F32, n as u64, 3, &vel)?;
+        let diameter = f32s(&mut by_id.iter().map(|(_, p)| 2.0 * p.radius));
+        self.chunk("particles/diameter", Type::F32, n as u64, 1, &diameter)?;
+        let mass = f32s(
+            &mut by_id
+                .iter()
+                .map(|(_, p)| model.mass(p.radius, p.mass.unwrap_or(0.0))),
+        );
+        self.chunk("particles/mass", Type::F32, n as u64, 1, &mass)?;
+        self.chunk(
+            "particles/typeid",
+            Type::U32,
+            n as u64,
+            1,
+            &vec![0u8; 4 * n],
+        )?;
+        // One type name, "A", as a NUL-padded int8 row.
+        self.chunk("particles/types", Type::I8, 1, 2, b"A\0")?;
+        let energy = world.stats().kinetic_energy;
+        self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
+        self.frame += 1;
+        Ok(())
+    }
+
+    /// Writes the name list, the index and the header, and renames the file into place.
+    pub fn finish(mut self) -> Result<()> {
+        // Name list: NUL-terminated names, then at least one NUL (the end marker), padded to
+        // whole 64-byte blocks.
+        let mut names: Vec<u8> = Vec::new();
+        for name in &self.names {
+            names.extend_from_slice(name.as_bytes());
+            names.push(0);
+        }
+        names.push(0);
+        names.resize(names.len().div_ceil(NAME_BLOCK) * NAME_BLOCK, 0);
+        let namelist_location = self.offset;
+        self.file.writer().write_all(&names)?;
+        self.offset += names.len() as u64;
+
+        // Index: sorted by (frame, id); room for more entries than frames (readers check
+        // frame < allocated entries) and an all-zero end marker.
+        self.index.sort_by_key(|e| (e.frame, e.id));
+        let allocated = (self.index.len() + 1)
+            .max(self.frame as usize + 1)
+            .next_power_of_two();
+        let index_location = self.offset;
+        let mut bytes = Vec::with_capacity(allocated * 32);
+        for e in &self.index {
+            bytes.extend_from_slice(&e.frame.to_le_bytes());
+            bytes.extend_from_slice(&e.n.to_le_bytes());
+            bytes.extend_from_slice(&(e.location as i64).to_le_bytes());
+            bytes.extend_from_slice(&e.m.to_le_bytes());
+            bytes.extend_from_slice(&e.id.to_le_bytes());
+            bytes.push(e.kind as u8);
+            bytes.push(0); // flags
+        }
+        bytes.resize(allocated * 32, 0);
+        self.file.writer().write_all(&bytes)?;
+
+        let mut header = Vec::with_capacity(HEADER_SIZE as usize);
+        header.extend_from_slice(&MAGIC.to_le_bytes());
+        header.extend_from_slice(&index_location.to_le_bytes());
+        header.extend_from_slice(&(allocated as u64).to_le_bytes());
+        header.extend_from_slice(&namelist_location.to_le_bytes());
+        header.extend_from_slice(&((names.len() / NAME_BLOCK) as u64).to_le_bytes());
+        header.extend_from_slice(&version(1, 4).to_le_bytes()); // hoomd schema version
+        header.extend_from_slice(&version(2, 0).to_le_bytes()); // file layer version
+        let mut text = |s: &str, len: usize| {
+            let mut field = s.as_bytes()[..s.len().min(len - 1)].to_vec();
+            field.resize(len, 0);
+            header.extend_from_slice(&field);
+        };
+        text(concat!("bounce ", env!("CARGO_PKG_VERSION")), 64);
+        text("hoomd", 64);
+        header.resize(HEADER_SIZE as usize, 0);
+        let w = self.file.writer();
+        w.seek(SeekFrom::Start(0))
+            .context("cannot write the GSD header")?;
+        w.write_all(&header)?;
+        self.file.commit()
+    }
+}
+
+/// Centre and size of the box HOOMD should see: the walls or periodic box, or for an open
+/// world the particles' extent with a margin.
+fn box_of(world: &World) -> ([f64; 2], [f64; 2]) {
+    let (min, max) = match world.config().boundary {
+        Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => (min, max),
+        Boundary::Open => {
+            let p = world.particles();
+            let r = p.radius().iter().copied().fold(0.0, f64::max);
+            let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - r;
+            let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + r;
+            ([lo(p.x()), lo(p.y())], [hi(p.x()), hi(p.y())])
+        }
+    };
+    (
+        [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+        [max[0] - min[0], max[1] - min[1]],
+    )
+}

@@ -1,0 +1,275 @@
+//! Pictures of the world: PNG frames with discs to scale, and an animated GIF.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use bounce::{Boundary, World};
+use bounce_scenario::{ColorBy, Rgb};
+use tiny_skia::{
+    Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke,
+    Transform,
+};
+
+use crate::atomic::AtomicFile;
+
+const BACKGROUND: Rgb = [17, 20, 26];
+const BOX_EDGE: Rgb = [90, 96, 110];
+const NO_COLOUR: Rgb = [150, 150, 150];
+/// GIF frames are at most this wide, to keep the file small.
+const GIF_WIDTH: u32 = 480;
+
+/// What a frame shows and how it colours discs.
+pub struct Painter {
+    min: [f64; 2],
+    max: [f64; 2],
+    width: u32,
+    height: u32,
+    colour_by: ColorBy,
+    /// Colour of each particle by id.
+    colours: Vec<Option<Rgb>>,
+    /// Speed that maps to the top of the colour scale (fixed for the run).
+    speed_scale: f64,
+    radius_range: [f64; 2],
+}
+
+impl Painter {
+    /// A painter for `world`'s box (or `view` for an open world) at `width` pixels.
+    pub fn new(
+        world: &World,
+        view: Option<([f64; 2], [f64; 2])>,
+        width: u32,
+        colour_by: ColorBy,
+        colours: Vec<Option<Rgb>>,
+    ) -> Self {
+        let p = world.particles();
+        let (min, max) = view
+            .or(world.config().boundary.bounds())
+            .unwrap_or_else(|| {
+                let r = p.radius().iter().copied().fold(0.0, f64::max);
+                let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - 2.0 * r;
+                let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 2.0 * r;
+                ([lo(p.x()), lo(p.y())], [hi(p.x()), hi(p.y())])
+            });
+        let aspect = (max[1] - min[1]) / (max[0] - min[0]);
+        let height = ((width as f64 * aspect).round() as u32).clamp(16, 8192);
+        let rms = (2.0 * world.stats().kinetic_energy
+            / crate::physics::masses(world)
+                .iter()
+                .sum::<f64>()
+                .max(1e-300))
+        .sqrt();
+        let max_speed = p
+            .vx()
+            .iter()
+            .zip(p.vy())
+            .map(|(x, y)| x.hypot(*y))
+            .fold(0.0, f64::max);
+        let speed_scale = if rms > 0.0 {
+            2.5 * rms
+        } else {
+            max_speed.max(1e-12)
+        };
+        let radius_range = [
+            p.radius().iter().copied().fold(f64::INFINITY, f64::min),
+            p.radius().iter().copied().fold(0.0, f64::max),
+        ];
+        Painter {
+            min,
+            max,
+            width,
+            height,
+            colour_by,
+            colours,
+            speed_scale,
+            radius_range,
+        }
+    }
+
+    /// Frame size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// World coordinates to pixels (y up in the world, down in the image).
+    pub fn to_pixel(&self, x: f64, y: f64) -> (f32, f32) {
+        let sx = self.width as f64 / (self.max[0] - self.min[0]);
+        let sy = self.height as f64 / (self.max[1] - self.min[1]);
+        (
+            ((x - self.min[0]) * sx) as f32,
+            ((self.max[1] - y) * sy) as f32,
+        )
+    }
+
+    fn colour(&self, id: usize, speed: f64, radius: f64) -> Rgb {
+        match self.colour_by {
+            ColorBy::Speed => ramp(speed / self.speed_scale),
+            ColorBy::Radius => {
+                let [lo, hi] = self.radius_range;
+                ramp(if hi > lo {
+                    (radius - lo) / (hi - lo)
+                } else {
+                    0.5
+                })
+            }
+            ColorBy::Color => self.colours.get(id).copied().flatten().unwrap_or(NO_COLOUR),
+        }
+    }
+
+    /// Draws the world.
+    pub fn paint(&self, world: &World) -> Pixmap {
+        let mut pixmap = Pixmap::new(self.width, self.height).expect("size checked");
+        pixmap.fill(rgb(BACKGROUND));
+        let scale = self.width as f64 / (self.max[0] - self.min[0]);
+        if let Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } =
+            world.config().boundary
+        {
+            let (x0, y0) = self.to_pixel(min[0], max[1]);
+            let (x1, y1) = self.to_pixel(max[0], min[1]);
+            if let Some(rect) = Rect::from_ltrb(x0 + 0.5, y0 + 0.5, x1 - 0.5, y1 - 0.5) {
+                let mut paint = Paint::default();
+                paint.set_color(rgb(BOX_EDGE));
+                let path = PathBuilder::from_rect(rect);
+                pixmap.stroke_path(
+                    &path,
+                    &paint,
+                    &Stroke::default(),
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+        let p = world.particles();
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        for i in 0..p.len() {
+            let (x, y) = self.to_pixel(p.x()[i], p.y()[i]);
+            let r = (p.radius()[i] * scale) as f32;
+            let speed = p.vx()[i].hypot(p.vy()[i]);
+            paint.set_color(rgb(self.colour(
+                p.ids()[i].0 as usize,
+                speed,
+                p.radius()[i],
+            )));
+            if r < 0.75 {
+                // Smaller than a pixel: one pixel, so a million discs stay visible and fast.
+                if let Some(rect) = Rect::from_xywh(x.floor(), y.floor(), 1.0, 1.0) {
+                    pixmap.fill_rect(rect, &paint, Transform::identity(), None);
+                }
+            } else if let Some(path) = PathBuilder::from_circle(x, y, r) {
+                pixmap.fill_path(
+                    &path,
+                    &paint,
+                    FillRule::Winding,
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+        pixmap
+    }
+}
+
+fn rgb(c: Rgb) -> Color {
+    Color::from_rgba8(c[0], c[1], c[2], 255)
+}
+
+/// A perceptually ordered ramp, dark blue through teal and green to yellow, for `t` in [0, 1].
+fn ramp(t: f64) -> Rgb {
+    const STOPS: [Rgb; 5] = [
+        [59, 76, 192],
+        [40, 140, 200],
+        [60, 180, 140],
+        [170, 210, 60],
+        [250, 230, 40],
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        1.0
+    } * (STOPS.len() - 1) as f64;
+    let k = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - k as f64;
+    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
+    [0, 1, 2].map(|c| mix(STOPS[k][c], STOPS[k + 1][c]))
+}
+
+/// Writes a frame as PNG, atomically.
+pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<()> {
+    let bytes = pixmap
+        .encode_png()
+        .with_context(|| format!("cannot encode {}", path.display()))?;
+    crate::atomic::write(path, &bytes)
+}
+
+/// An animated GIF built frame by frame.
+pub struct GifWriter {
+    encoder: gif::Encoder<AtomicFile>,
+    width: u32,
+    height: u32,
+}
+
+impl GifWriter {
+    /// Starts `path` for frames of `size` (scaled down to at most 480 pixels wide).
+    pub fn create(path: &Path, size: (u32, u32)) -> Result<Self> {
+        let scale = (GIF_WIDTH as f64 / size.0 as f64).min(1.0);
+        let width = ((size.0 as f64 * scale).round() as u32).max(1);
+        let height = ((size.1 as f64 * scale).round() as u32).max(1);
+        let file = AtomicFile::create(path)?;
+        let mut encoder = gif::Encoder::new(file, width as u16, height as u16, &[])
+            .context("cannot start the GIF")?;
+        encoder.set_repeat(gif::Repeat::Infinite)?;
+        Ok(GifWriter {
+            encoder,
+            width,
+            height,
+        })
+    }
+
+    /// Adds a frame.
+    pub fn add(&mut self, pixmap: &Pixmap) -> Result<()> {
+        let mut small = Pixmap::new(self.width, self.height).expect("size checked");
+        let sx = self.width as f32 / pixmap.width() as f32;
+        let sy = self.height as f32 / pixmap.height() as f32;
+        let paint = PixmapPaint {
+            quality: FilterQuality::Bilinear,
+            ..PixmapPaint::default()
+        };
+        small.draw_pixmap(
+            0,
+            0,
+            pixmap.as_ref(),
+            &paint,
+            Transform::from_scale(sx, sy),
+            None,
+        );
+        let mut rgba = small.take();
+        let mut frame =
+            gif::Frame::from_rgba_speed(self.width as u16, self.height as u16, &mut rgba, 20);
+        frame.delay = 6; // hundredths of a second
+        self.encoder
+            .write_frame(&frame)
+            .context("cannot write a GIF frame")?;
+        Ok(())
+    }
+
+    /// Completes the file.
+    pub fn finish(self) -> Result<()> {
+        let file = self.encoder.into_inner().context("cannot finish the GIF")?;
+        file.commit()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ramp_runs_from_blue_to_yellow() {
+        assert_eq!(ramp(0.0), [59, 76, 192]);
+        assert_eq!(ramp(1.0), [250, 230, 40]);
+        assert_eq!(ramp(7.0), ramp(1.0));
+        assert_eq!(ramp(f64::NAN), ramp(1.0));
+    }
+}

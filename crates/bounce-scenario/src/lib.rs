@@ -1,0 +1,725 @@
+//! Scenario files: what a bounce run simulates and writes, as TOML.
+//!
+//! [`load`] parses a file and validates everything it can, collecting *every* problem with
+//! its line instead of stopping at the first; [`Scenario::build`] then places the particles
+//! and returns a ready [`bounce::World`] and the discs' colours. The CLI, the viewer, the
+//! benchmarks and the tests all read scenarios through this crate.
+//!
+//! The format, with every default, is documented in `scenarios/README.md` and by
+//! `bounce new gas`.
+
+use std::path::Path;
+
+use bounce::scene::{self, Gas, Lattice, Speeds};
+use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUpdate, World};
+use serde::Deserialize;
+use toml::Spanned;
+
+mod colour;
+pub use colour::{Rgb, parse_colour};
+
+/// The shipped scenarios, by name: `bounce new NAME` writes them out.
+pub const TEMPLATES: [(&str, &str); 6] = [
+    ("gas", include_str!("../../../scenarios/gas.toml")),
+    ("pile", include_str!("../../../scenarios/pile.toml")),
+    (
+        "newtons-cradle",
+        include_str!("../../../scenarios/newtons-cradle.toml"),
+    ),
+    ("brownian", include_str!("../../../scenarios/brownian.toml")),
+    ("mixing", include_str!("../../../scenarios/mixing.toml")),
+    ("million", include_str!("../../../scenarios/million.toml")),
+];
+
+/// A parsed scenario file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// A title for the run.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// One line on what it shows.
+    #[serde(default)]
+    pub description: Option<String>,
+    /// The world: boundary, the seed's parameters, model options.
+    pub world: WorldSpec,
+    /// Time step and run length.
+    pub time: TimeSpec,
+    /// Random gases.
+    #[serde(default)]
+    pub gas: Vec<Spanned<GasSpec>>,
+    /// Lattices of equal discs.
+    #[serde(default)]
+    pub lattice: Vec<Spanned<LatticeSpec>>,
+    /// Rectangles filled with discs moving together.
+    #[serde(default)]
+    pub block: Vec<Spanned<BlockSpec>>,
+    /// Single discs.
+    #[serde(default)]
+    pub disc: Vec<Spanned<DiscSpec>>,
+    /// What to write.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// `[world]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSpec {
+    /// `walls` (default), `periodic` or `open`.
+    #[serde(default = "default_boundary")]
+    pub boundary: BoundaryKind,
+    /// Lower-left corner of the box (required unless open).
+    #[serde(default)]
+    pub min: Option<[f64; 2]>,
+    /// Upper-right corner of the box (required unless open).
+    #[serde(default)]
+    pub max: Option<[f64; 2]>,
+    /// Wall restitution; defaults to the coefficient of restitution.
+    #[serde(default)]
+    pub wall_restitution: Option<f64>,
+    /// Gravity, default `[0, 0]`.
+    #[serde(default)]
+    pub gravity: [f64; 2],
+    /// The seed's collision_radius_scale, default 1.
+    #[serde(default = "one")]
+    pub collision_radius_scale: f64,
+    /// The seed's coefficient of restitution, default 1.
+    #[serde(default = "one")]
+    pub coefficient_of_restitution: f64,
+    /// Default `radius` (the seed's).
+    #[serde(default = "default_mass_model")]
+    pub mass_model: MassModel,
+    /// Default `scale_each_normal_velocity` (the seed's).
+    #[serde(default = "default_restitution_model")]
+    pub restitution_model: RestitutionModel,
+    /// Default `all_detected` (the seed's).
+    #[serde(default = "default_velocity_update")]
+    pub velocity_update: VelocityUpdate,
+}
+
+/// The kind of boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundaryKind {
+    /// Reflecting walls around `[min, max]`.
+    Walls,
+    /// A periodic box `[min, max)`.
+    Periodic,
+    /// No boundary.
+    Open,
+}
+
+/// `[time]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// Time step, > 0.
+    pub dt: f64,
+    /// Steps to run (the CLI's `--steps` overrides it).
+    pub steps: u64,
+    /// Substeps per step, default 1.
+    #[serde(default = "one_u32")]
+    pub substeps: u32,
+}
+
+/// A radius or a range of radii.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum RadiusSpec {
+    /// One radius.
+    One(f64),
+    /// Uniform in `[min, max]`.
+    Range([f64; 2]),
+}
+
+impl RadiusSpec {
+    fn range(self) -> [f64; 2] {
+        match self {
+            RadiusSpec::One(r) => [r, r],
+            RadiusSpec::Range(r) => r,
+        }
+    }
+}
+
+/// A region `{ min = [x, y], max = [x, y] }`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// Lower-left corner.
+    pub min: [f64; 2],
+    /// Upper-right corner.
+    pub max: [f64; 2],
+}
+
+/// `[[gas]]`: a random gas. Give exactly one of `speed`, `temperature`, `uniform`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasSpec {
+    /// Number of discs.
+    pub count: usize,
+    /// Radius or `[min, max]`.
+    pub radius: RadiusSpec,
+    /// Every disc at this speed in a random direction.
+    #[serde(default)]
+    pub speed: Option<f64>,
+    /// Thermal velocities at this kT.
+    #[serde(default)]
+    pub temperature: Option<f64>,
+    /// Components uniform in `[-a, a]`.
+    #[serde(default)]
+    pub uniform: Option<f64>,
+    /// Common velocity added to all.
+    #[serde(default)]
+    pub drift: [f64; 2],
+    /// Random seed, default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// Where centres go; default the whole box.
+    #[serde(default)]
+    pub region: Option<RegionSpec>,
+    /// Colour of these discs (`#rrggbb` or a name).
+    #[serde(default)]
+    pub color: Option<String>,
+}
+
+/// `[[lattice]]`: a grid of equal discs.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LatticeSpec {
+    /// Centre of the first disc.
+    pub origin: [f64; 2],
+    /// Distance between centres along x and y.
+    pub spacing: [f64; 2],
+    /// Discs along x and y.
+    pub counts: [usize; 2],
+    /// Radius.
+    pub radius: f64,
+    /// Common velocity, default 0.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Colour.
+    #[serde(default)]
+    pub color: Option<String>,
+}
+
+/// `[[block]]`: a rectangle filled with touching-free discs moving together.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlockSpec {
+    /// Lower-left corner of the rectangle.
+    pub min: [f64; 2],
+    /// Upper-right corner.
+    pub max: [f64; 2],
+    /// Radius of every disc.
+    pub radius: f64,
+    /// Centre spacing; default just over the collision distance `2 r collision_radius_scale`.
+    #[serde(default)]
+    pub spacing: Option<f64>,
+    /// Common velocity.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Colour.
+    #[serde(default)]
+    pub color: Option<String>,
+}
+
+/// `[[disc]]`: one disc.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscSpec {
+    /// Centre.
+    pub position: [f64; 2],
+    /// Velocity, default 0.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Radius.
+    pub radius: f64,
+    /// Mass (used with `mass_model = "per_particle"`).
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// Colour.
+    #[serde(default)]
+    pub color: Option<String>,
+}
+
+/// How frames colour the discs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColorBy {
+    /// By speed, slow blue to fast yellow.
+    Speed,
+    /// By radius.
+    Radius,
+    /// The colours the scenario sets (grey where none).
+    Color,
+}
+
+/// `[output]`: all intervals are in steps; 0 turns an output off.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    /// A `stats.csv` row every this many steps (default 10).
+    pub stats_every: u64,
+    /// A PNG frame every this many steps (default 0: none).
+    pub frame_every: u64,
+    /// Frame width in pixels (height follows the box's aspect); default 800.
+    pub frame_width: u32,
+    /// Also write `animation.gif` from the frames; default false.
+    pub gif: bool,
+    /// A GSD trajectory frame every this many steps (default 0: none).
+    pub gsd_every: u64,
+    /// A checkpoint every this many steps besides the one at the end (default 0).
+    pub checkpoint_every: u64,
+    /// Frame colouring; default `color` when the scenario sets colours, else `speed`.
+    pub color_by: Option<ColorBy>,
+    /// Write `plots.png` at the end; default true.
+    pub plots: bool,
+    /// The region frames show in an open world; default the particles' extent at the start.
+    pub view: Option<RegionSpec>,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            stats_every: 10,
+            frame_every: 0,
+            frame_width: 800,
+            gif: false,
+            gsd_every: 0,
+            checkpoint_every: 0,
+            color_by: None,
+            plots: true,
+            view: None,
+        }
+    }
+}
+
+fn default_boundary() -> BoundaryKind {
+    BoundaryKind::Walls
+}
+fn one() -> f64 {
+    1.0
+}
+fn one_u32() -> u32 {
+    1
+}
+fn default_mass_model() -> MassModel {
+    MassModel::Radius
+}
+fn default_restitution_model() -> RestitutionModel {
+    RestitutionModel::ScaleEachNormalVelocity
+}
+fn default_velocity_update() -> VelocityUpdate {
+    VelocityUpdate::AllDetected
+}
+
+/// One problem in a scenario file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Problem {
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// What is wrong, naming the field and value.
+    pub message: String,
+}
+
+/// Every problem found in one file.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.render())]
+pub struct ScenarioError {
+    /// The file, as given.
+    pub file: String,
+    /// The problems, in file order.
+    pub problems: Vec<Problem>,
+}
+
+impl ScenarioError {
+    fn render(&self) -> String {
+        let mut out = String::new();
+        for (k, p) in self.problems.iter().enumerate() {
+            if k > 0 {
+                out.push('\n');
+            }
+            match p.line {
+                Some(line) => out.push_str(&format!("{}:{}: {}", self.file, line, p.message)),
+                None => out.push_str(&format!("{}: {}", self.file, p.message)),
+            }
+        }
+        out
+    }
+}
+
+/// A scenario turned into a world.
+pub struct Built {
+    /// The world, particles added.
+    pub world: World,
+    /// Colour of each particle, indexed by id; `None` where the scenario sets none.
+    pub colours: Vec<Option<Rgb>>,
+}
+
+/// Reads and validates a scenario file.
+pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+    let file = path.display().to_string();
+    let source = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+        file: file.clone(),
+        problems: vec![Problem {
+            line: None,
+            message: format!("cannot read the file: {e}"),
+        }],
+    })?;
+    parse(&source, &file)
+}
+
+/// Parses and validates scenario text; `file` names it in messages.
+pub fn parse(source: &str, file: &str) -> Result<Scenario, ScenarioError> {
+    let scenario: Scenario = toml::from_str(source).map_err(|e| ScenarioError {
+        file: file.to_string(),
+        problems: vec![Problem {
+            line: e.span().map(|s| line_at(source, s.start)),
+            message: e.message().trim().replace('\n', " "),
+        }],
+    })?;
+    let problems = scenario.problems(source);
+    if problems.is_empty() {
+        Ok(scenario)
+    } else {
+        Err(ScenarioError {
+            file: file.to_string(),
+            problems,
+        })
+    }
+}
+
+/// The 1-based line of byte offset `at`.
+fn line_at(source: &str, at: usize) -> usize {
+    source[..at.min(source.len())].matches('\n').count() + 1
+}
+
+/// The line of `key = ...` inside `[table]`, for messages about plain fields.
+fn line_of_key(source: &str, table: &str, key: &str) -> Option<usize> {
+    let mut current = String::new();
+    for (n, line) in source.lines().enumerate() {
+        let t = line.trim();
+        if t.starts_with('[') {
+            current = t.trim_matches(|c| c == '[' || c == ']').trim().to_string();
+        } else if current == table
+            && t.strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        {
+            return Some(n + 1);
+        }
+    }
+    None
+}
+
+impl Scenario {
+    /// The world configuration the scenario describes (not yet validated).
+    pub fn config(&self) -> Config {
+        let w = &self.world;
+        let (min, max) = (w.min.unwrap_or([0.0, 0.0]), w.max.unwrap_or([0.0, 0.0]));
+        Config {
+            collision_radius_scale: w.collision_radius_scale,
+            coefficient_of_restitution: w.coefficient_of_restitution,
+            gravity: w.gravity,
+            substeps: self.time.substeps,
+            boundary: match w.boundary {
+                BoundaryKind::Walls => Boundary::Walls {
+                    min,
+                    max,
+                    wall_restitution: w.wall_restitution,
+                },
+                BoundaryKind::Periodic => Boundary::Periodic { min, max },
+                BoundaryKind::Open => Boundary::Open,
+            },
+            mass_model: w.mass_model,
+            restitution_model: w.restitution_model,
+            velocity_update: w.velocity_update,
+        }
+    }
+
+    /// Total particles the scenario asks for.
+    pub fn particle_count(&self) -> usize {
+        self.gas.iter().map(|g| g.get_ref().count).sum::<usize>()
+            + self
+                .lattice
+                .iter()
+                .map(|l| l.get_ref().counts[0] * l.get_ref().counts[1])
+                .sum::<usize>()
+            + self.disc.len()
+            + self
+                .block
+                .iter()
+                .map(|b| block_counts(b.get_ref(), self.world.collision_radius_scale))
+                .map(|[x, y]| x * y)
+                .sum::<usize>()
+    }
+
+    /// Whether any generator sets a colour.
+    pub fn has_colours(&self) -> bool {
+        self.gas.iter().any(|g| g.get_ref().color.is_some())
+            || self.lattice.iter().any(|g| g.get_ref().color.is_some())
+            || self.block.iter().any(|g| g.get_ref().color.is_some())
+            || self.disc.iter().any(|g| g.get_ref().color.is_some())
+    }
+
+    /// Every problem that can be found without placing particles.
+    fn problems(&self, source: &str) -> Vec<Problem> {
+        let mut out = Vec::new();
+        let mut at = |line: Option<usize>, message: String| out.push(Problem { line, message });
+
+        let w = &self.world;
+        if w.boundary != BoundaryKind::Open {
+            for (key, v) in [("min", w.min), ("max", w.max)] {
+                if v.is_none() {
+                    at(
+                        line_of_key(source, "world", "boundary"),
+                        format!("world.{key} is required with boundary = {:?}", w.boundary),
+                    );
+                }
+            }
+        }
+        for e in self.config().problems() {
+            let key = e.field.split('.').next_back().unwrap_or(e.field);
+            let key = if key == "boundary" { "max" } else { key };
+            let line = line_of_key(source, "world", key)
+                .or_else(|| line_of_key(source, "time", key))
+                .or_else(|| line_of_key(source, "world", "boundary"));
+            at(
+                line,
+                format!(
+                    "world.{}",
+                    e.to_string().trim_start_matches("invalid config: ")
+                ),
+            );
+        }
+        if !(self.time.dt.is_finite() && self.time.dt > 0.0) {
+            at(
+                line_of_key(source, "time", "dt"),
+                format!("time.dt = {} must be finite and > 0", self.time.dt),
+            );
+        }
+        for (k, g) in self.gas.iter().enumerate() {
+            let line = Some(line_at(source, g.span().start));
+            let gas = g.get_ref();
+            let set = [gas.speed, gas.temperature, gas.uniform]
+                .iter()
+                .filter(|v| v.is_some())
+                .count();
+            if set != 1 {
+                at(
+                    line,
+                    format!(
+                        "gas #{}: give exactly one of speed, temperature, uniform ({set} given)",
+                        k + 1
+                    ),
+                );
+            }
+            let [lo, hi] = gas.radius.range();
+            if !(lo.is_finite() && lo > 0.0 && hi.is_finite() && hi >= lo) {
+                at(
+                    line,
+                    format!(
+                        "gas #{}: radius {:?} must be finite, > 0, with min <= max",
+                        k + 1,
+                        gas.radius.range()
+                    ),
+                );
+            }
+            colour_problem(&gas.color, line, &format!("gas #{}", k + 1), &mut at);
+        }
+        for (k, l) in self.lattice.iter().enumerate() {
+            let line = Some(line_at(source, l.span().start));
+            let lat = l.get_ref();
+            if !(lat.radius.is_finite() && lat.radius > 0.0) {
+                at(
+                    line,
+                    format!(
+                        "lattice #{}: radius {} must be finite and > 0",
+                        k + 1,
+                        lat.radius
+                    ),
+                );
+            }
+            colour_problem(&lat.color, line, &format!("lattice #{}", k + 1), &mut at);
+        }
+        for (k, b) in self.block.iter().enumerate() {
+            let line = Some(line_at(source, b.span().start));
+            let block = b.get_ref();
+            if !(block.radius.is_finite() && block.radius > 0.0) {
+                at(
+                    line,
+                    format!(
+                        "block #{}: radius {} must be finite and > 0",
+                        k + 1,
+                        block.radius
+                    ),
+                );
+            } else if block_counts(block, w.collision_radius_scale).contains(&0) {
+                at(
+                    line,
+                    format!(
+                        "block #{}: {:?}..{:?} holds no disc of radius {}",
+                        k + 1,
+                        block.min,
+                        block.max,
+                        block.radius
+                    ),
+                );
+            }
+            colour_problem(&block.color, line, &format!("block #{}", k + 1), &mut at);
+        }
+        for (k, d) in self.disc.iter().enumerate() {
+            let line = Some(line_at(source, d.span().start));
+            colour_problem(
+                &d.get_ref().color,
+                line,
+                &format!("disc #{}", k + 1),
+                &mut at,
+            );
+        }
+        if self.particle_count() == 0 {
+            at(
+                None,
+                "the scenario has no particles: add [[gas]], [[lattice]], [[block]] or [[disc]]"
+                    .into(),
+            );
+        }
+        let o = &self.output;
+        if o.frame_width < 16 || o.frame_width > 8192 {
+            at(
+                line_of_key(source, "output", "frame_width"),
+                format!(
+                    "output.frame_width = {} must be in 16..=8192",
+                    o.frame_width
+                ),
+            );
+        }
+        if o.gif && o.frame_every == 0 {
+            at(
+                line_of_key(source, "output", "gif"),
+                "output.gif needs output.frame_every > 0".into(),
+            );
+        }
+        out.sort_by_key(|p| p.line.unwrap_or(usize::MAX));
+        out
+    }
+
+    /// Places the particles and returns the world. `file` and `source` name problems.
+    pub fn build(&self, source: &str, file: &str) -> Result<Built, ScenarioError> {
+        let fail = |line: Option<usize>, message: String| ScenarioError {
+            file: file.to_string(),
+            problems: vec![Problem { line, message }],
+        };
+        let config = self.config();
+        let mut world = World::new(config.clone()).map_err(|e| fail(None, e.to_string()))?;
+        let mut colours = Vec::new();
+        let mut add = |discs: Vec<Particle>, colour: &Option<String>, line: usize, what: String| {
+            let rgb = colour
+                .as_deref()
+                .map(|c| parse_colour(c).expect("checked in problems"));
+            let n = discs.len();
+            world.add_particles(discs).map_err(|(i, e)| {
+                fail(
+                    Some(line),
+                    format!("{what}: particle {} of {n}: {e}", i + 1),
+                )
+            })?;
+            colours.extend(std::iter::repeat_n(rgb, n));
+            Ok::<(), ScenarioError>(())
+        };
+        for (k, g) in self.gas.iter().enumerate() {
+            let line = line_at(source, g.span().start);
+            let spec = g.get_ref();
+            let speeds = match (spec.speed, spec.temperature, spec.uniform) {
+                (Some(v), _, _) => Speeds::Fixed(v),
+                (_, Some(t), _) => Speeds::Temperature(t),
+                (_, _, Some(a)) => Speeds::Uniform(a),
+                _ => Speeds::Fixed(0.0),
+            };
+            let gas = Gas {
+                count: spec.count,
+                radius: spec.radius.range(),
+                region: spec.region.map(|r| (r.min, r.max)),
+                speeds,
+                drift: spec.drift,
+                seed: spec.seed,
+            };
+            let discs = scene::gas(&gas, &config)
+                .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
+            add(discs, &spec.color, line, format!("gas #{}", k + 1))?;
+        }
+        for (k, l) in self.lattice.iter().enumerate() {
+            let line = line_at(source, l.span().start);
+            let spec = l.get_ref();
+            let discs = scene::lattice(&Lattice {
+                origin: spec.origin,
+                spacing: spec.spacing,
+                counts: spec.counts,
+                radius: spec.radius,
+                velocity: spec.velocity,
+            });
+            add(discs, &spec.color, line, format!("lattice #{}", k + 1))?;
+        }
+        for (k, b) in self.block.iter().enumerate() {
+            let line = line_at(source, b.span().start);
+            let spec = b.get_ref();
+            let spacing = block_spacing(spec, config.collision_radius_scale);
+            let counts = block_counts(spec, config.collision_radius_scale);
+            let discs = scene::lattice(&Lattice {
+                origin: [spec.min[0] + spec.radius, spec.min[1] + spec.radius],
+                spacing: [spacing, spacing],
+                counts,
+                radius: spec.radius,
+                velocity: spec.velocity,
+            });
+            add(discs, &spec.color, line, format!("block #{}", k + 1))?;
+        }
+        for (k, d) in self.disc.iter().enumerate() {
+            let line = line_at(source, d.span().start);
+            let spec = d.get_ref();
+            let disc = Particle {
+                position: spec.position,
+                velocity: spec.velocity,
+                radius: spec.radius,
+                mass: spec.mass,
+            };
+            add(vec![disc], &spec.color, line, format!("disc #{}", k + 1))?;
+        }
+        Ok(Built { world, colours })
+    }
+}
+
+fn block_spacing(block: &BlockSpec, scale: f64) -> f64 {
+    // Just beyond the collision distance, so the block starts without contacts.
+    block.spacing.unwrap_or(2.0 * block.radius * scale * 1.001)
+}
+
+fn block_counts(block: &BlockSpec, scale: f64) -> [usize; 2] {
+    let spacing = block_spacing(block, scale);
+    [0, 1].map(|a| {
+        let room = block.max[a] - block.min[a] - 2.0 * block.radius;
+        if room.is_finite() && room >= 0.0 && spacing > 0.0 {
+            (room / spacing).floor().min(1e7) as usize + 1
+        } else {
+            0
+        }
+    })
+}
+
+fn colour_problem(
+    colour: &Option<String>,
+    line: Option<usize>,
+    what: &str,
+    at: &mut impl FnMut(Option<usize>, String),
+) {
+    if let Some(c) = colour
+        && let Err(e) = parse_colour(c)
+    {
+        at(line, format!("{what}: {e}"));
+    }
+}
+
+/// The text of a shipped template.
+pub fn template(name: &str) -> Option<&'static str> {
+    TEMPLATES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
