@@ -372,12 +372,24 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
 
 /// Parses and validates scenario text; `file` names it in messages.
 pub fn parse(source: &str, file: &str) -> Result<Scenario, ScenarioError> {
-    let scenario: Scenario = toml::from_str(source).map_err(|e| ScenarioError {
-        file: file.to_string(),
-        problems: vec![Problem {
-            line: e.span().map(|s| line_at(source, s.start)),
-            message: e.message().trim().replace('\n', " "),
-        }],
+    let scenario: Scenario = toml::from_str(source).map_err(|e| {
+        let message = e.message().trim().replace('\n', " ");
+        let (line, message) = match e.span() {
+            Some(span) => {
+                let line = line_at(source, span.start);
+                match field_at(source, line) {
+                    Some(field) if !message.contains(&field) => {
+                        (Some(line), format!("`{field}`: {message}"))
+                    }
+                    _ => (Some(line), message),
+                }
+            }
+            None => (None, message),
+        };
+        ScenarioError {
+            file: file.to_string(),
+            problems: vec![Problem { line, message }],
+        }
     })?;
     let problems = scenario.problems(source);
     if problems.is_empty() {
@@ -393,6 +405,29 @@ pub fn parse(source: &str, file: &str) -> Result<Scenario, ScenarioError> {
 /// The 1-based line of byte offset `at`.
 fn line_at(source: &str, at: usize) -> usize {
     source[..at.min(source.len())].matches('\n').count() + 1
+}
+
+/// `table.key` for a `key = value` line (1-based), for messages that only know the line.
+fn field_at(source: &str, line: usize) -> Option<String> {
+    let mut table = String::new();
+    for (n, text) in source.lines().enumerate() {
+        let t = text.trim();
+        if t.starts_with('[') {
+            table = t.trim_matches(|c| c == '[' || c == ']').trim().to_string();
+        }
+        if n + 1 == line {
+            let key = t.split('=').next()?.trim();
+            if key.is_empty() || key.starts_with('[') || !t.contains('=') {
+                return None;
+            }
+            return Some(if table.is_empty() {
+                key.to_string()
+            } else {
+                format!("{table}.{key}")
+            });
+        }
+    }
+    None
 }
 
 /// The line of `key = ...` inside `[table]`, for messages about plain fields.
@@ -627,66 +662,102 @@ impl Scenario {
             colours.extend(std::iter::repeat_n(rgb, n));
             Ok::<(), ScenarioError>(())
         };
-        for (k, g) in self.gas.iter().enumerate() {
-            let line = line_at(source, g.span().start);
-            let spec = g.get_ref();
-            let speeds = match (spec.speed, spec.temperature, spec.uniform) {
-                (Some(v), _, _) => Speeds::Fixed(v),
-                (_, Some(t), _) => Speeds::Temperature(t),
-                (_, _, Some(a)) => Speeds::Uniform(a),
-                _ => Speeds::Fixed(0.0),
-            };
-            let gas = Gas {
-                count: spec.count,
-                radius: spec.radius.range(),
-                region: spec.region.map(|r| (r.min, r.max)),
-                speeds,
-                drift: spec.drift,
-                seed: spec.seed,
-            };
-            let discs = scene::gas(&gas, &config)
-                .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
-            add(discs, &spec.color, line, format!("gas #{}", k + 1))?;
-        }
-        for (k, l) in self.lattice.iter().enumerate() {
-            let line = line_at(source, l.span().start);
-            let spec = l.get_ref();
-            let discs = scene::lattice(&Lattice {
-                origin: spec.origin,
-                spacing: spec.spacing,
-                counts: spec.counts,
-                radius: spec.radius,
-                velocity: spec.velocity,
-            });
-            add(discs, &spec.color, line, format!("lattice #{}", k + 1))?;
-        }
-        for (k, b) in self.block.iter().enumerate() {
-            let line = line_at(source, b.span().start);
-            let spec = b.get_ref();
-            let spacing = block_spacing(spec, config.collision_radius_scale);
-            let counts = block_counts(spec, config.collision_radius_scale);
-            let discs = scene::lattice(&Lattice {
-                origin: [spec.min[0] + spec.radius, spec.min[1] + spec.radius],
-                spacing: [spacing, spacing],
-                counts,
-                radius: spec.radius,
-                velocity: spec.velocity,
-            });
-            add(discs, &spec.color, line, format!("block #{}", k + 1))?;
-        }
-        for (k, d) in self.disc.iter().enumerate() {
-            let line = line_at(source, d.span().start);
-            let spec = d.get_ref();
-            let disc = Particle {
-                position: spec.position,
-                velocity: spec.velocity,
-                radius: spec.radius,
-                mass: spec.mass,
-            };
-            add(vec![disc], &spec.color, line, format!("disc #{}", k + 1))?;
+        // Particles get their ids in the order their tables appear in the file.
+        let mut entries: Vec<(usize, Entry)> = Vec::new();
+        entries.extend(
+            self.gas
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (g.span().start, Entry::Gas(k))),
+        );
+        entries.extend(
+            self.lattice
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (g.span().start, Entry::Lattice(k))),
+        );
+        entries.extend(
+            self.block
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (g.span().start, Entry::Block(k))),
+        );
+        entries.extend(
+            self.disc
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (g.span().start, Entry::Disc(k))),
+        );
+        entries.sort_by_key(|&(start, _)| start);
+        for (start, entry) in entries {
+            let line = line_at(source, start);
+            match entry {
+                Entry::Gas(k) => {
+                    let spec = self.gas[k].get_ref();
+                    let speeds = match (spec.speed, spec.temperature, spec.uniform) {
+                        (Some(v), _, _) => Speeds::Fixed(v),
+                        (_, Some(t), _) => Speeds::Temperature(t),
+                        (_, _, Some(a)) => Speeds::Uniform(a),
+                        _ => Speeds::Fixed(0.0),
+                    };
+                    let gas = Gas {
+                        count: spec.count,
+                        radius: spec.radius.range(),
+                        region: spec.region.map(|r| (r.min, r.max)),
+                        speeds,
+                        drift: spec.drift,
+                        seed: spec.seed,
+                    };
+                    let discs = scene::gas(&gas, &config)
+                        .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
+                    add(discs, &spec.color, line, format!("gas #{}", k + 1))?;
+                }
+                Entry::Lattice(k) => {
+                    let spec = self.lattice[k].get_ref();
+                    let discs = scene::lattice(&Lattice {
+                        origin: spec.origin,
+                        spacing: spec.spacing,
+                        counts: spec.counts,
+                        radius: spec.radius,
+                        velocity: spec.velocity,
+                    });
+                    add(discs, &spec.color, line, format!("lattice #{}", k + 1))?;
+                }
+                Entry::Block(k) => {
+                    let spec = self.block[k].get_ref();
+                    let spacing = block_spacing(spec, config.collision_radius_scale);
+                    let discs = scene::lattice(&Lattice {
+                        origin: [spec.min[0] + spec.radius, spec.min[1] + spec.radius],
+                        spacing: [spacing, spacing],
+                        counts: block_counts(spec, config.collision_radius_scale),
+                        radius: spec.radius,
+                        velocity: spec.velocity,
+                    });
+                    add(discs, &spec.color, line, format!("block #{}", k + 1))?;
+                }
+                Entry::Disc(k) => {
+                    let spec = self.disc[k].get_ref();
+                    let disc = Particle {
+                        position: spec.position,
+                        velocity: spec.velocity,
+                        radius: spec.radius,
+                        mass: spec.mass,
+                    };
+                    add(vec![disc], &spec.color, line, format!("disc #{}", k + 1))?;
+                }
+            }
         }
         Ok(Built { world, colours })
     }
+}
+
+/// A particle table, for building in file order.
+#[derive(Clone, Copy)]
+enum Entry {
+    Gas(usize),
+    Lattice(usize),
+    Block(usize),
+    Disc(usize),
 }
 
 fn block_spacing(block: &BlockSpec, scale: f64) -> f64 {
