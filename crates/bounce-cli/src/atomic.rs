@@ -21,7 +21,12 @@ impl AtomicFile {
             .parent()
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        let temp = NamedTempFile::new_in(dir)
+        let mut builder = tempfile::Builder::new();
+        // Outputs are ordinary files (the umask still applies), not private temporaries.
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+        let temp = builder
+            .tempfile_in(dir)
             .with_context(|| format!("cannot write in {}", dir.display()))?;
         Ok(AtomicFile {
             target: target.to_path_buf(),
