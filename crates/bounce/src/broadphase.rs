@@ -527,16 +527,23 @@ impl Context<'_> {
     fn test(&self, a: usize, others: Range<usize>, out: &mut Vec<Pair>, max_overlap: &mut f64) {
         let p = self.p;
         let (xa, ya, ra) = (p.x[a], p.y[a], p.radius[a]);
-        for b in others {
-            let [dx, dy] = self.periodicity.diff(xa, ya, p.x[b], p.y[b]);
+        let start = others.start;
+        // Slices first: the loop then runs without bounds checks.
+        let (xs, ys, rs) = (
+            &p.x[others.clone()],
+            &p.y[others.clone()],
+            &p.radius[others],
+        );
+        for (k, ((&xb, &yb), &rb)) in xs.iter().zip(ys).zip(rs).enumerate() {
+            let [dx, dy] = self.periodicity.diff(xa, ya, xb, yb);
             let d2 = dx * dx + dy * dy;
-            let reach = (ra + p.radius[b]) * self.scale;
+            let reach = (ra + rb) * self.scale;
             // Cheap squared early-out with a margin, then the seed's exact test on the
             // distance itself (so rounding matches `collision::is_colliding`).
             if d2 <= reach * reach * (1.0 + 1e-12) {
                 let distance = d2.sqrt();
                 if distance <= reach {
-                    out.push([a as u32, b as u32]);
+                    out.push([a as u32, (start + k) as u32]);
                     *max_overlap = max_overlap.max(reach - distance);
                 }
             }
@@ -548,28 +555,44 @@ impl Context<'_> {
         let g = &self.levels[block.level];
         let mut max_overlap = 0.0;
         let finer = &self.levels[..block.level];
-        let mut neighbours = [0..0, 0..0, 0..0, 0..0];
         for cy in block.y.clone() {
             for cx in block.x.clone() {
-                let own = self.cell_range(g.cell_index(cx, cy));
+                let own_cell = g.cell_index(cx, cy);
+                let own = self.cell_range(own_cell);
                 if own.is_empty() {
                     continue;
                 }
-                // The forward half-stencil's cells, looked up once per cell.
-                let mut count = 0;
+                // The own cell and the forward half-stencil, in stencil order, with cells that
+                // follow each other in memory merged into one run: (cx, cy) and (cx + 1, cy)
+                // are one run, and so is the row above. Fewer, longer loops.
+                let mut runs = [(own_cell, own_cell); 5];
+                let mut count = 1;
                 for &[dx, dy] in &g.forward {
                     if let (Some(nx), Some(ny)) = (
                         g.neighbour(cx as isize + dx, 0),
                         g.neighbour(cy as isize + dy, 1),
                     ) {
-                        neighbours[count] = self.cell_range(g.cell_index(nx, ny));
-                        count += 1;
+                        let cell = g.cell_index(nx, ny);
+                        if cell == runs[count - 1].1 + 1 {
+                            runs[count - 1].1 = cell;
+                        } else {
+                            runs[count] = (cell, cell);
+                            count += 1;
+                        }
                     }
                 }
+                let ranges = runs[..count].iter().map(|&(first, last)| {
+                    self.cell_start[first] as usize..self.cell_start[last + 1] as usize
+                });
+                let mut ranges_buf = [0..0, 0..0, 0..0, 0..0, 0..0];
+                for (slot, range) in ranges_buf.iter_mut().zip(ranges) {
+                    *slot = range;
+                }
+                let first_end = ranges_buf[0].end;
                 for a in own.clone() {
-                    // Same cell: later discs only; then the same level's forward cells.
-                    self.test(a, a + 1..own.end, out, &mut max_overlap);
-                    for range in &neighbours[..count] {
+                    // The own cell's later discs (and what follows it in memory), then the rest.
+                    self.test(a, a + 1..first_end, out, &mut max_overlap);
+                    for range in &ranges_buf[1..count] {
                         self.test(a, range.clone(), out, &mut max_overlap);
                     }
                     // Finer levels: every cell under this disc's reach.
