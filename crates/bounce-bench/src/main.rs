@@ -87,12 +87,25 @@ fn main() -> Result<()> {
             }
             let out = cmd.output().context("cannot run a benchmark child")?;
             if !out.status.success() {
-                bail!(
-                    "{} on {} failed: {}",
-                    engine.name(),
-                    scene.name(),
-                    String::from_utf8_lossy(&out.stderr)
-                );
+                // A peer that aborts (Box2D asserts past 65,535 bodies per solver block) is
+                // reported, not fatal: the other engines still run.
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                let reason = stderr
+                    .lines()
+                    .find(|l| !l.trim().is_empty() && !l.starts_with("running"))
+                    .unwrap_or("no message")
+                    .trim()
+                    .to_string();
+                eprintln!("{} on {} failed: {reason}", engine.name(), scene.name());
+                rows.push(Row {
+                    scene: scene.name().to_string(),
+                    n: scene.count(),
+                    engine: engine.name().to_string(),
+                    median_ms: None,
+                    peak_mb: f64::NAN,
+                    note: format!("failed: {reason}"),
+                });
+                continue;
             }
             let line = String::from_utf8_lossy(&out.stdout);
             rows.push(parse_row(line.trim(), scene, engine)?);
@@ -166,7 +179,7 @@ fn parse_row(line: &str, scene: &SceneKind, engine: Engine) -> Result<Row> {
         "skipped" => {
             let mb: f64 = parts.next().context("memory")?.parse()?;
             let rest = [parts.next().unwrap_or(""), parts.next().unwrap_or("")].join(" ");
-            (None, mb, rest.trim().to_string())
+            (None, mb, format!("skipped: {}", rest.trim()))
         }
         other => bail!("unexpected child output {other:?}"),
     };
@@ -198,7 +211,7 @@ fn print_table(rows: &[Row], scenes: &[SceneKind]) {
                     format!("{:.2e}", r.n as f64 / (ms / 1e3)),
                     reference.map_or("–".into(), |b| format!("{:.1}x", ms / b)),
                 ),
-                None => ("skipped".into(), "–".into(), "–".into()),
+                None => ("–".into(), "–".into(), "–".into()),
             };
             println!(
                 "| {} | {} | {} | {ms} | {rate} | {ratio} | {:.0} | {} |",
@@ -284,6 +297,7 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
         }
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .label_font(("sans-serif", 15))

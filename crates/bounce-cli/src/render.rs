@@ -4,7 +4,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use bounce::{Boundary, World};
-use bounce_scenario::{ColorBy, Rgb};
+use bounce_scenario::{ColorBy, Rgb, ramp};
 use tiny_skia::{
     Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke,
     Transform,
@@ -175,26 +175,6 @@ fn rgb(c: Rgb) -> Color {
     Color::from_rgba8(c[0], c[1], c[2], 255)
 }
 
-/// A perceptually ordered ramp, dark blue through teal and green to yellow, for `t` in [0, 1].
-fn ramp(t: f64) -> Rgb {
-    const STOPS: [Rgb; 5] = [
-        [59, 76, 192],
-        [40, 140, 200],
-        [60, 180, 140],
-        [170, 210, 60],
-        [250, 230, 40],
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        1.0
-    } * (STOPS.len() - 1) as f64;
-    let k = (t.floor() as usize).min(STOPS.len() - 2);
-    let f = t - k as f64;
-    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
-    [0, 1, 2].map(|c| mix(STOPS[k][c], STOPS[k + 1][c]))
-}
-
 /// Writes a frame as PNG, atomically.
 pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<()> {
     let bytes = pixmap
@@ -258,18 +238,5 @@ impl GifWriter {
     pub fn finish(self) -> Result<()> {
         let file = self.encoder.into_inner().context("cannot finish the GIF")?;
         file.commit()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ramp_runs_from_blue_to_yellow() {
-        assert_eq!(ramp(0.0), [59, 76, 192]);
-        assert_eq!(ramp(1.0), [250, 230, 40]);
-        assert_eq!(ramp(7.0), ramp(1.0));
-        assert_eq!(ramp(f64::NAN), ramp(1.0));
     }
 }

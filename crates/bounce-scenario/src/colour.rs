@@ -38,6 +38,23 @@ pub fn parse_colour(text: &str) -> Result<Rgb, String> {
         })
 }
 
+/// A perceptually ordered ramp, dark blue through teal and green to yellow, for `t` in
+/// [0, 1] (clamped; NaN gives the top): how frames colour speed and radius.
+pub fn ramp(t: f64) -> Rgb {
+    const STOPS: [Rgb; 5] = [
+        [59, 76, 192],
+        [40, 140, 200],
+        [60, 180, 140],
+        [170, 210, 60],
+        [250, 230, 40],
+    ];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 1.0 } * (STOPS.len() - 1) as f64;
+    let k = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - k as f64;
+    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
+    [0, 1, 2].map(|c| mix(STOPS[k][c], STOPS[k + 1][c]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -48,5 +65,13 @@ mod tests {
         assert_eq!(parse_colour("Blue"), Ok([40, 100, 220]));
         assert!(parse_colour("#ff80").unwrap_err().contains("#ff80"));
         assert!(parse_colour("mauve").is_err());
+    }
+
+    #[test]
+    fn ramp_runs_from_blue_to_yellow() {
+        assert_eq!(ramp(0.0), [59, 76, 192]);
+        assert_eq!(ramp(1.0), [250, 230, 40]);
+        assert_eq!(ramp(7.0), ramp(1.0));
+        assert_eq!(ramp(f64::NAN), ramp(1.0));
     }
 }

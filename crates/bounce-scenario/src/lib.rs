@@ -15,8 +15,9 @@ use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUp
 use serde::Deserialize;
 use toml::Spanned;
 
+pub mod checkpoint;
 mod colour;
-pub use colour::{Rgb, parse_colour};
+pub use colour::{Rgb, parse_colour, ramp};
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
 pub const TEMPLATES: [(&str, &str); 6] = [

@@ -286,6 +286,40 @@ impl World {
         Ok(())
     }
 
+    /// Adds `delta_v` to the velocity of every particle whose centre lies within `radius` of
+    /// `centre` (for interactive tools: a push). Returns how many were pushed; non-finite
+    /// arguments push nothing.
+    pub fn push_region(&mut self, centre: [f64; 2], radius: f64, delta_v: [f64; 2]) -> usize {
+        let finite = centre.iter().chain(&delta_v).all(|v| v.is_finite()) && radius.is_finite();
+        if !finite || radius < 0.0 {
+            return 0;
+        }
+        let p = &mut self.particles;
+        let mut pushed = 0;
+        for i in 0..p.len() {
+            let (dx, dy) = (p.x[i] - centre[0], p.y[i] - centre[1]);
+            if dx * dx + dy * dy <= radius * radius {
+                p.vx[i] += delta_v[0];
+                p.vy[i] += delta_v[1];
+                pushed += 1;
+            }
+        }
+        self.refresh_stats();
+        pushed
+    }
+
+    /// The particle whose disc contains `point` (the nearest centre if several overlap it).
+    pub fn particle_at(&self, point: [f64; 2]) -> Option<ParticleId> {
+        let p = &self.particles;
+        (0..p.len())
+            .filter_map(|i| {
+                let d2 = (p.x[i] - point[0]).powi(2) + (p.y[i] - point[1]).powi(2);
+                (d2 <= p.radius[i] * p.radius[i]).then_some((d2, p.id[i]))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, id)| id)
+    }
+
     /// The pairs within the collision distance right now, as sorted id pairs, found by the
     /// grid. The state is not changed (only the storage order may be).
     pub fn colliding_pairs(&mut self) -> Vec<(ParticleId, ParticleId)> {

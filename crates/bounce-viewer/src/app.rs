@@ -1,0 +1,664 @@
+//! The viewer application: state, controls, mouse and keyboard, panels.
+
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use bounce::scene::maxwell_boltzmann_pdf;
+use bounce::{MassModel, Particle, RestitutionModel, VelocityUpdate, World};
+use bounce_scenario::{ColorBy, Rgb};
+use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
+use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
+
+use crate::canvas::{Palette, Raster, View};
+use crate::{DEMO, Headless};
+
+/// Samples kept for the energy and momentum plot.
+const HISTORY: usize = 600;
+
+/// Everything loaded from one scenario text: what `r` resets to.
+struct Source {
+    name: String,
+    text: String,
+}
+
+/// The running simulation and the view on it.
+pub struct ViewerApp {
+    source: Source,
+    world: World,
+    colours: Vec<Option<Rgb>>,
+    dt: f64,
+    running: bool,
+    steps_per_frame: u32,
+    colour_by: ColorBy,
+    palette: Palette,
+    view: Option<View>,
+    raster: Raster,
+    texture: Option<TextureHandle>,
+    history: VecDeque<[f64; 4]>,
+    last_step_ms: f64,
+    last_pairs: usize,
+    frame_times: VecDeque<f64>,
+    last_frame: Option<Instant>,
+    spawn_radius: f64,
+    drag_start: Option<[f64; 2]>,
+    fling: Option<bounce::ParticleId>,
+    last_spawn: Option<[f64; 2]>,
+    path: String,
+    message: String,
+    show_help: bool,
+    headless: Option<HeadlessState>,
+}
+
+/// Progress of a `--headless-frames` run.
+struct HeadlessState {
+    spec: Headless,
+    frames: u32,
+    started: Instant,
+    requested: bool,
+    shot: Arc<Mutex<Option<Arc<egui::ColorImage>>>>,
+    canvas: egui::Rect,
+    pixels_per_point: f32,
+    result: Arc<Mutex<Result<(), String>>>,
+}
+
+impl ViewerApp {
+    /// The app for a scenario (or the built-in demo).
+    pub fn new(
+        scenario: Option<(String, String)>,
+        headless: Option<(Headless, Arc<Mutex<Result<(), String>>>)>,
+    ) -> Result<Self, String> {
+        let (name, text) = scenario.unwrap_or_else(|| ("built-in demo".into(), DEMO.into()));
+        let (world, colours, dt, colour_by) = load(&name, &text)?;
+        let palette = Palette::for_world(&world, colour_by, colours.clone());
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let mut app = ViewerApp {
+            source: Source { name, text },
+            world,
+            colours,
+            dt,
+            running: true,
+            steps_per_frame: 1,
+            colour_by,
+            palette,
+            view: None,
+            raster: Raster::new(1, 1),
+            texture: None,
+            history: VecDeque::new(),
+            last_step_ms: 0.0,
+            last_pairs: 0,
+            frame_times: VecDeque::new(),
+            last_frame: None,
+            spawn_radius: 0.5,
+            drag_start: None,
+            fling: None,
+            last_spawn: None,
+            path: String::new(),
+            message: String::new(),
+            show_help: false,
+            headless: headless.map(|(spec, result)| HeadlessState {
+                spec,
+                frames: 0,
+                started: Instant::now(),
+                requested: false,
+                shot: Arc::new(Mutex::new(None)),
+                canvas: egui::Rect::NOTHING,
+                pixels_per_point: 1.0,
+                result,
+            }),
+        };
+        app.world
+            .set_threads(threads)
+            .map_err(|e| e.to_string())?;
+        app.spawn_radius = app.typical_radius();
+        Ok(app)
+    }
+
+    fn typical_radius(&self) -> f64 {
+        let r = self.world.particles().radius();
+        if r.is_empty() { 0.5 } else { r.iter().sum::<f64>() / r.len() as f64 }
+    }
+
+    /// Replaces the simulation with a scenario text.
+    fn open(&mut self, name: String, text: String) {
+        match load(&name, &text) {
+            Ok((world, colours, dt, colour_by)) => {
+                let threads = self.world.threads();
+                self.world = world;
+                let _ = self.world.set_threads(threads);
+                self.colours = colours;
+                self.dt = dt;
+                self.colour_by = colour_by;
+                self.source = Source { name, text };
+                self.after_reload();
+                self.message = format!("opened {}", self.source.name);
+            }
+            Err(e) => self.message = e,
+        }
+    }
+
+    fn after_reload(&mut self) {
+        self.palette = Palette::for_world(&self.world, self.colour_by, self.colours.clone());
+        self.view = None;
+        self.history.clear();
+        self.spawn_radius = self.typical_radius();
+    }
+
+    fn reset(&mut self) {
+        let (name, text) = (self.source.name.clone(), self.source.text.clone());
+        self.open(name, text);
+        self.message = "reset".into();
+    }
+
+    fn step(&mut self) {
+        let start = Instant::now();
+        let mut pairs = 0;
+        for _ in 0..self.steps_per_frame {
+            match self.world.step(self.dt) {
+                Ok(stats) => pairs += stats.pairs,
+                Err(e) => {
+                    self.message = e.to_string();
+                    self.running = false;
+                    break;
+                }
+            }
+        }
+        self.last_step_ms = start.elapsed().as_secs_f64() * 1e3 / self.steps_per_frame as f64;
+        self.last_pairs = pairs / self.steps_per_frame as usize;
+        self.record();
+    }
+
+    fn record(&mut self) {
+        let s = self.world.stats();
+        self.history
+            .push_back([self.world.time(), s.kinetic_energy, s.momentum[0], s.momentum[1]]);
+        while self.history.len() > HISTORY {
+            self.history.pop_front();
+        }
+    }
+
+    fn save_checkpoint(&mut self) {
+        let path = self.path_or("checkpoint.bin");
+        self.message = match bounce_scenario::checkpoint::encode(&self.world)
+            .and_then(|bytes| std::fs::write(&path, bytes).map_err(|e| e.to_string()))
+        {
+            Ok(()) => format!("saved {}", path.display()),
+            Err(e) => format!("cannot save {}: {e}", path.display()),
+        };
+    }
+
+    fn load_checkpoint(&mut self) {
+        let path = self.path_or("checkpoint.bin");
+        let loaded = std::fs::read(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))
+            .and_then(|bytes| bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string()));
+        match loaded {
+            Ok(world) => {
+                let threads = self.world.threads();
+                if world.len() != self.colours.len() {
+                    self.colours = vec![None; world.len()];
+                }
+                self.world = world;
+                let _ = self.world.set_threads(threads);
+                self.after_reload();
+                self.message = format!("loaded {}", path.display());
+            }
+            Err(e) => self.message = e,
+        }
+    }
+
+    fn open_path(&mut self) {
+        let path = self.path_or("scenario.toml");
+        match std::fs::read_to_string(&path) {
+            Ok(text) => self.open(path.display().to_string(), text),
+            Err(e) => self.message = format!("cannot read {}: {e}", path.display()),
+        }
+    }
+
+    fn path_or(&self, default: &str) -> PathBuf {
+        PathBuf::from(if self.path.trim().is_empty() { default } else { self.path.trim() })
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.heading("bounce");
+        ui.label(&self.source.name);
+        ui.horizontal(|ui| {
+            if ui.button(if self.running { "⏸ pause" } else { "▶ play" }).clicked() {
+                self.running = !self.running;
+            }
+            if ui.button("step").clicked() {
+                self.step();
+            }
+            if ui.button("reset").clicked() {
+                self.reset();
+            }
+        });
+        ui.add(egui::Slider::new(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
+        ui.separator();
+        ui.label("physics (the seed's parameters)");
+        let mut config = self.world.config().clone();
+        let before = config.clone();
+        ui.add(egui::Slider::new(&mut config.collision_radius_scale, 0.5..=2.0).text("collision_radius_scale"));
+        ui.add(egui::Slider::new(&mut config.coefficient_of_restitution, 0.0..=1.0).text("restitution"));
+        ui.add(egui::Slider::new(&mut config.gravity[0], -20.0..=20.0).text("gravity x"));
+        ui.add(egui::Slider::new(&mut config.gravity[1], -20.0..=20.0).text("gravity y"));
+        ui.add(egui::Slider::new(&mut self.dt, 0.0005..=0.05).logarithmic(true).text("dt"));
+        ui.add(egui::Slider::new(&mut config.substeps, 1..=16).text("substeps"));
+        ui.label("model options");
+        egui::ComboBox::from_label("mass")
+            .selected_text(format!("{:?}", config.mass_model))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut config.mass_model, MassModel::Radius, "radius (seed)");
+                ui.selectable_value(&mut config.mass_model, MassModel::Area, "area");
+                ui.selectable_value(&mut config.mass_model, MassModel::PerParticle, "per particle");
+            });
+        let mut newton = config.restitution_model == RestitutionModel::RelativeNormalVelocity;
+        ui.checkbox(&mut newton, "momentum-conserving restitution");
+        config.restitution_model = if newton {
+            RestitutionModel::RelativeNormalVelocity
+        } else {
+            RestitutionModel::ScaleEachNormalVelocity
+        };
+        let mut approaching = config.velocity_update == VelocityUpdate::ApproachingOnly;
+        ui.checkbox(&mut approaching, "update approaching pairs only");
+        config.velocity_update = if approaching {
+            VelocityUpdate::ApproachingOnly
+        } else {
+            VelocityUpdate::AllDetected
+        };
+        if config != before
+            && let Err(e) = self.world.set_config(config)
+        {
+            self.message = e.to_string();
+        }
+        ui.separator();
+        ui.label("colour by");
+        let old = self.colour_by;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut self.colour_by, ColorBy::Speed, "speed");
+            ui.radio_value(&mut self.colour_by, ColorBy::Radius, "radius");
+            ui.radio_value(&mut self.colour_by, ColorBy::Color, "scenario");
+        });
+        if old != self.colour_by {
+            self.palette = Palette::for_world(&self.world, self.colour_by, self.colours.clone());
+        }
+        ui.add(egui::Slider::new(&mut self.spawn_radius, 0.05..=5.0).logarithmic(true).text("spawn radius"));
+        ui.separator();
+        ui.label("file (scenario or checkpoint)");
+        ui.text_edit_singleline(&mut self.path);
+        ui.horizontal(|ui| {
+            if ui.button("open scenario").clicked() {
+                self.open_path();
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui.button("save checkpoint").clicked() {
+                self.save_checkpoint();
+            }
+            if ui.button("load checkpoint").clicked() {
+                self.load_checkpoint();
+            }
+        });
+        if !self.message.is_empty() {
+            ui.separator();
+            ui.label(&self.message);
+        }
+        ui.separator();
+        ui.small("space: pause · . : step · r: reset · h: help");
+    }
+
+    fn panels(&mut self, ui: &mut egui::Ui) {
+        let fps = if self.frame_times.len() > 1 {
+            let total: f64 = self.frame_times.iter().sum();
+            self.frame_times.len() as f64 / total.max(1e-9)
+        } else {
+            0.0
+        };
+        egui::Grid::new("numbers").num_columns(2).show(ui, |ui| {
+            ui.label("frames / s");
+            ui.label(format!("{fps:.1}"));
+            ui.end_row();
+            ui.label("step time");
+            ui.label(format!("{:.2} ms", self.last_step_ms));
+            ui.end_row();
+            ui.label("particles");
+            ui.label(self.world.len().to_string());
+            ui.end_row();
+            ui.label("colliding pairs / step");
+            ui.label(self.last_pairs.to_string());
+            ui.end_row();
+            ui.label("step");
+            ui.label(self.world.step_count().to_string());
+            ui.end_row();
+            ui.label("time");
+            ui.label(format!("{:.3}", self.world.time()));
+            ui.end_row();
+        });
+        ui.separator();
+        ui.label("kinetic energy and |momentum|");
+        let energy: PlotPoints = self.history.iter().map(|h| [h[0], h[1]]).collect();
+        let momentum: PlotPoints = self.history.iter().map(|h| [h[0], h[2].hypot(h[3])]).collect();
+        Plot::new("energy")
+            .height(150.0)
+            .legend(Legend::default())
+            .allow_scroll(false)
+            .show(ui, |plot| {
+                plot.line(Line::new("kinetic energy", energy));
+                plot.line(Line::new("|momentum|", momentum));
+            });
+        ui.separator();
+        ui.label("speeds vs 2D Maxwell–Boltzmann");
+        let (bars, curve) = self.speed_histogram();
+        Plot::new("speeds")
+            .height(170.0)
+            .legend(Legend::default())
+            .allow_scroll(false)
+            .show(ui, |plot| {
+                plot.bar_chart(BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)));
+                plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
+            });
+    }
+
+    fn speed_histogram(&self) -> (Vec<Bar>, PlotPoints<'static>) {
+        let p = self.world.particles();
+        let n = p.len();
+        if n == 0 {
+            return (Vec::new(), PlotPoints::from(Vec::<[f64; 2]>::new()));
+        }
+        let model = self.world.config().mass_model;
+        let speeds: Vec<f64> = p.vx().iter().zip(p.vy()).map(|(x, y)| x.hypot(*y)).collect();
+        let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-9) * 1.05;
+        let bins = 30;
+        let width = v_max / bins as f64;
+        let mut counts = vec![0usize; bins];
+        for &v in &speeds {
+            counts[((v / width) as usize).min(bins - 1)] += 1;
+        }
+        let bars = counts
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| Bar::new((k as f64 + 0.5) * width, c as f64 / (n as f64 * width)).width(width))
+            .collect();
+        // Temperature from the kinetic energy in the centre-of-mass frame (2D: kT per disc).
+        let masses: Vec<f64> = (0..n)
+            .step_by((n / 2000).max(1))
+            .map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i]))
+            .collect();
+        let total_mass: f64 =
+            (0..n).map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i])).sum();
+        let s = self.world.stats();
+        let drift = (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass.max(1e-300));
+        let kt = ((s.kinetic_energy - drift) / n as f64).max(0.0);
+        let curve: Vec<[f64; 2]> = (0..=120)
+            .map(|k| {
+                let v = v_max * k as f64 / 120.0;
+                let density = if kt > 0.0 {
+                    masses.iter().map(|&m| maxwell_boltzmann_pdf(v, kt, m)).sum::<f64>() / masses.len() as f64
+                } else {
+                    0.0
+                };
+                [v, density]
+            })
+            .collect();
+        (bars, PlotPoints::from(curve))
+    }
+
+    /// The picture and its mouse handling.
+    fn canvas(&mut self, ui: &mut egui::Ui) {
+        let size = ui.available_size();
+        let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
+        let ppp = ui.ctx().pixels_per_point();
+        let (w, h) = (
+            ((rect.width() * ppp).round() as usize).max(1),
+            ((rect.height() * ppp).round() as usize).max(1),
+        );
+        if self.raster.width != w || self.raster.height != h {
+            self.raster = Raster::new(w, h);
+        }
+        let view = *self.view.get_or_insert_with(|| initial_view(&self.world, w, h));
+        self.handle_mouse(ui, &response, rect, ppp, w, h);
+        let view = self.view.unwrap_or(view);
+        self.raster.draw(&self.world, &view, &self.palette);
+        let image = egui::ColorImage::from_rgba_unmultiplied([w, h], &self.raster.pixels);
+        match &mut self.texture {
+            Some(t) => t.set(image, TextureOptions::NEAREST),
+            None => {
+                self.texture = Some(ui.ctx().load_texture("bounce", image, TextureOptions::NEAREST));
+            }
+        }
+        if let Some(t) = &self.texture {
+            ui.painter().image(
+                t.id(),
+                rect,
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                Color32::WHITE,
+            );
+        }
+        if let Some(state) = &mut self.headless {
+            state.canvas = rect;
+            state.pixels_per_point = ppp;
+        }
+    }
+
+    fn handle_mouse(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        rect: egui::Rect,
+        ppp: f32,
+        w: usize,
+        h: usize,
+    ) {
+        let Some(view) = self.view.as_mut() else { return };
+        let to_px = |pos: egui::Pos2| [((pos.x - rect.min.x) * ppp) as f64, ((pos.y - rect.min.y) * ppp) as f64];
+        // Scroll zooms about the cursor.
+        if let Some(pos) = response.hover_pos() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                view.zoom_at(to_px(pos), (scroll as f64 / 200.0).exp(), w, h);
+            }
+        }
+        // Middle drag pans.
+        if response.dragged_by(PointerButton::Middle) {
+            let d = response.drag_delta() * ppp;
+            view.centre[0] -= d.x as f64 / view.scale;
+            view.centre[1] += d.y as f64 / view.scale;
+        }
+        let view = *view;
+        let Some(pos) = response.interact_pointer_pos() else {
+            if !response.dragged() {
+                self.drag_start = None;
+                self.fling = None;
+                self.last_spawn = None;
+            }
+            return;
+        };
+        let world_pos = view.to_world(to_px(pos), w, h);
+        // Left: click spawns one disc; dragging lays a trail moving with the drag.
+        if response.clicked_by(PointerButton::Primary) {
+            self.spawn(world_pos, [0.0, 0.0]);
+        } else if response.dragged_by(PointerButton::Primary) {
+            let far_enough = self.last_spawn.is_none_or(|last| {
+                (last[0] - world_pos[0]).hypot(last[1] - world_pos[1]) >= 2.2 * self.spawn_radius
+            });
+            if far_enough {
+                let d = response.drag_delta() * ppp;
+                let v = [d.x as f64 / view.scale / self.dt.max(1e-9) * 0.1, -d.y as f64 / view.scale / self.dt.max(1e-9) * 0.1];
+                self.spawn(world_pos, v);
+                self.last_spawn = Some(world_pos);
+            }
+        }
+        // Right drag: fling the disc under the press, or push everything around the cursor.
+        if response.drag_started_by(PointerButton::Secondary) {
+            self.drag_start = Some(world_pos);
+            self.fling = self.world.particle_at(world_pos);
+        }
+        if response.dragged_by(PointerButton::Secondary) && self.fling.is_none() {
+            let d = response.drag_delta() * ppp;
+            let dv = [d.x as f64 / view.scale * 2.0, -d.y as f64 / view.scale * 2.0];
+            let reach = 40.0 / view.scale;
+            self.world.push_region(world_pos, reach, dv);
+        }
+        if response.drag_stopped_by(PointerButton::Secondary) {
+            if let (Some(id), Some(start)) = (self.fling, self.drag_start) {
+                let v = [(world_pos[0] - start[0]) * 3.0, (world_pos[1] - start[1]) * 3.0];
+                if let Err(e) = self.world.set_velocity(id, v) {
+                    self.message = e.to_string();
+                }
+            }
+            self.fling = None;
+            self.drag_start = None;
+        }
+    }
+
+    fn spawn(&mut self, at: [f64; 2], velocity: [f64; 2]) {
+        let r = self.spawn_radius;
+        match self.world.add_particle(Particle::new(at, velocity, r)) {
+            Ok(_) => self.colours.push(Some([240, 240, 240])),
+            Err(e) => self.message = format!("cannot place a disc there: {e}"),
+        }
+        self.palette.colours = self.colours.clone();
+    }
+
+    fn keyboard(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let (space, dot, r, help) = ctx.input(|i| {
+            (
+                i.key_pressed(egui::Key::Space),
+                i.key_pressed(egui::Key::Period),
+                i.key_pressed(egui::Key::R),
+                i.key_pressed(egui::Key::H) || i.key_pressed(egui::Key::Questionmark),
+            )
+        });
+        if space {
+            self.running = !self.running;
+        }
+        if dot {
+            self.step();
+        }
+        if r {
+            self.reset();
+        }
+        if help {
+            self.show_help = !self.show_help;
+        }
+    }
+
+    fn help(&mut self, ctx: &egui::Context) {
+        let mut open = self.show_help;
+        egui::Window::new("help").open(&mut open).collapsible(false).show(ctx, |ui| {
+            egui::Grid::new("keys").num_columns(2).show(ui, |ui| {
+                for (key, what) in [
+                    ("space", "play / pause"),
+                    (".", "one step"),
+                    ("r", "reset to the scenario"),
+                    ("h or ?", "this help"),
+                    ("left click / drag", "spawn discs (a drag gives them its velocity)"),
+                    ("right drag on a disc", "fling it"),
+                    ("right drag elsewhere", "push the discs around the cursor"),
+                    ("scroll", "zoom about the cursor"),
+                    ("middle drag", "pan"),
+                ] {
+                    ui.monospace(key);
+                    ui.label(what);
+                    ui.end_row();
+                }
+            });
+        });
+        self.show_help = open;
+    }
+
+    /// Headless runs count frames, then take and save a screenshot and close.
+    fn headless_frame(&mut self, ctx: &egui::Context) {
+        let Some(state) = &mut self.headless else { return };
+        state.frames += 1;
+        ctx.request_repaint();
+        if state.frames >= state.spec.frames && !state.requested {
+            state.requested = true;
+            let slot = state.shot.clone();
+            let repaint = ctx.clone();
+            ctx.request_screenshot(move |image| {
+                *slot.lock().expect("screenshot slot") = Some(image);
+                repaint.request_repaint();
+            });
+        }
+        let shot = state.shot.lock().expect("screenshot slot").take();
+        if let Some(image) = shot {
+            let seconds = state.started.elapsed().as_secs_f64();
+            let result = crate::save_screenshot(&image, &state.spec.screenshot, state.canvas, state.pixels_per_point, &self.world, self.view.as_ref(), (self.raster.width, self.raster.height));
+            println!(
+                "rendered {} frames of {} particles in {seconds:.2} s: {:.1} frames/s (last step {:.2} ms)",
+                state.frames,
+                self.world.len(),
+                state.frames as f64 / seconds.max(1e-9),
+                self.last_step_ms
+            );
+            *state.result.lock().expect("result slot") = result;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+    }
+}
+
+impl eframe::App for ViewerApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        let now = Instant::now();
+        if let Some(last) = self.last_frame {
+            self.frame_times.push_back((now - last).as_secs_f64());
+            while self.frame_times.len() > 60 {
+                self.frame_times.pop_front();
+            }
+        }
+        self.last_frame = Some(now);
+        self.keyboard(&ctx);
+        if self.running {
+            self.step();
+        }
+        egui::Panel::left("controls")
+            .resizable(false)
+            .default_size(270.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls(ui));
+            });
+        egui::Panel::right("stats")
+            .resizable(false)
+            .default_size(300.0)
+            .show(ui, |ui| self.panels(ui));
+        egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
+        self.help(&ctx);
+        self.headless_frame(&ctx);
+        if self.running {
+            ctx.request_repaint();
+        }
+    }
+}
+
+/// A world, colours, dt and colouring from scenario text.
+fn load(name: &str, text: &str) -> Result<(World, Vec<Option<Rgb>>, f64, ColorBy), String> {
+    let scenario = bounce_scenario::parse(text, name).map_err(|e| e.to_string())?;
+    let built = scenario.build(text, name).map_err(|e| e.to_string())?;
+    let colour_by = scenario.output.color_by.unwrap_or(if scenario.has_colours() {
+        ColorBy::Color
+    } else {
+        ColorBy::Speed
+    });
+    Ok((built.world, built.colours, scenario.time.dt, colour_by))
+}
+
+/// The box, or the particles' extent for an open world.
+fn initial_view(world: &World, w: usize, h: usize) -> View {
+    let (min, max) = world.config().boundary.bounds().unwrap_or_else(|| {
+        let p = world.particles();
+        let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if p.is_empty() {
+            ([-10.0, -10.0], [10.0, 10.0])
+        } else {
+            ([lo(p.x()) - 5.0, lo(p.y()) - 5.0], [hi(p.x()) + 5.0, hi(p.y()) + 5.0])
+        }
+    });
+    View::fit(min, max, w, h)
+}

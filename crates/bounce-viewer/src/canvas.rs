@@ -1,0 +1,226 @@
+//! The simulation picture: discs rasterised on the CPU into an RGBA buffer that becomes one
+//! texture per frame.
+//!
+//! Why not one egui shape per disc: 100,000 tessellated circles cost far more than a frame on
+//! a software renderer (Mesa's llvmpipe). Filling each disc's pixels directly is linear in the
+//! pixels covered, needs no GPU features, and runs the same in a browser.
+
+use bounce::World;
+use bounce_scenario::{ColorBy, Rgb, ramp};
+
+/// Background of the picture.
+pub const BACKGROUND: Rgb = [17, 20, 26];
+const BOX_EDGE: Rgb = [90, 96, 110];
+const NO_COLOUR: Rgb = [150, 150, 150];
+
+/// Which part of the world is shown: a centre and a scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// World point at the middle of the picture.
+    pub centre: [f64; 2],
+    /// Pixels per world unit.
+    pub scale: f64,
+}
+
+impl View {
+    /// A view showing `[min, max]` whole in a `width` × `height` picture, with a small margin.
+    pub fn fit(min: [f64; 2], max: [f64; 2], width: usize, height: usize) -> Self {
+        let w = (max[0] - min[0]).max(1e-9);
+        let h = (max[1] - min[1]).max(1e-9);
+        let scale = (width as f64 / w).min(height as f64 / h) * 0.96;
+        View {
+            centre: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+            scale: if scale.is_finite() && scale > 0.0 { scale } else { 1.0 },
+        }
+    }
+
+    /// World → picture pixels (y down).
+    pub fn to_pixel(&self, p: [f64; 2], width: usize, height: usize) -> [f64; 2] {
+        [
+            (p[0] - self.centre[0]) * self.scale + width as f64 / 2.0,
+            (self.centre[1] - p[1]) * self.scale + height as f64 / 2.0,
+        ]
+    }
+
+    /// Picture pixels → world.
+    pub fn to_world(&self, px: [f64; 2], width: usize, height: usize) -> [f64; 2] {
+        [
+            (px[0] - width as f64 / 2.0) / self.scale + self.centre[0],
+            self.centre[1] - (px[1] - height as f64 / 2.0) / self.scale,
+        ]
+    }
+
+    /// Zooms by `factor` keeping the world point under `px` in place.
+    pub fn zoom_at(&mut self, px: [f64; 2], factor: f64, width: usize, height: usize) {
+        let anchor = self.to_world(px, width, height);
+        self.scale = (self.scale * factor).clamp(1e-6, 1e6);
+        let moved = self.to_world(px, width, height);
+        self.centre[0] += anchor[0] - moved[0];
+        self.centre[1] += anchor[1] - moved[1];
+    }
+}
+
+/// How discs are coloured.
+pub struct Palette {
+    /// The rule.
+    pub colour_by: ColorBy,
+    /// Scenario colours by particle id.
+    pub colours: Vec<Option<Rgb>>,
+    /// Speed at the top of the ramp.
+    pub speed_scale: f64,
+    /// Radii at the ends of the ramp.
+    pub radius_range: [f64; 2],
+}
+
+impl Palette {
+    /// A palette whose scales come from the world as it is now.
+    pub fn for_world(world: &World, colour_by: ColorBy, colours: Vec<Option<Rgb>>) -> Self {
+        let p = world.particles();
+        let n = p.len().max(1) as f64;
+        let mean_v2 = p.vx().iter().zip(p.vy()).map(|(x, y)| x * x + y * y).sum::<f64>() / n;
+        let max_speed = p.vx().iter().zip(p.vy()).map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max);
+        let speed_scale = if mean_v2 > 0.0 { 2.5 * mean_v2.sqrt() } else { max_speed.max(1.0) };
+        let radius_range = [
+            p.radius().iter().copied().fold(f64::INFINITY, f64::min),
+            p.radius().iter().copied().fold(0.0, f64::max),
+        ];
+        Palette {
+            colour_by,
+            colours,
+            speed_scale,
+            radius_range,
+        }
+    }
+
+    fn colour(&self, id: usize, speed: f64, radius: f64) -> Rgb {
+        match self.colour_by {
+            ColorBy::Speed => ramp(speed / self.speed_scale),
+            ColorBy::Radius => {
+                let [lo, hi] = self.radius_range;
+                ramp(if hi > lo { (radius - lo) / (hi - lo) } else { 0.5 })
+            }
+            ColorBy::Color => self.colours.get(id).copied().flatten().unwrap_or(NO_COLOUR),
+        }
+    }
+}
+
+/// An RGBA picture of the world.
+pub struct Raster {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// RGBA, row-major, top row first.
+    pub pixels: Vec<u8>,
+}
+
+impl Raster {
+    /// A picture of the given size.
+    pub fn new(width: usize, height: usize) -> Self {
+        Raster {
+            width,
+            height,
+            pixels: vec![0; width * height * 4],
+        }
+    }
+
+    fn put(&mut self, x: isize, y: isize, c: Rgb) {
+        if x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height {
+            let k = (y as usize * self.width + x as usize) * 4;
+            self.pixels[k..k + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+
+    /// Draws the world as `view` sees it.
+    pub fn draw(&mut self, world: &World, view: &View, palette: &Palette) {
+        for px in self.pixels.chunks_exact_mut(4) {
+            px.copy_from_slice(&[BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255]);
+        }
+        let (w, h) = (self.width, self.height);
+        if let Some((min, max)) = world.config().boundary.bounds() {
+            let a = view.to_pixel([min[0], max[1]], w, h);
+            let b = view.to_pixel([max[0], min[1]], w, h);
+            let (x0, y0, x1, y1) = (a[0] as isize, a[1] as isize, b[0] as isize, b[1] as isize);
+            for x in x0.max(0)..=x1.min(w as isize - 1) {
+                self.put(x, y0, BOX_EDGE);
+                self.put(x, y1, BOX_EDGE);
+            }
+            for y in y0.max(0)..=y1.min(h as isize - 1) {
+                self.put(x0, y, BOX_EDGE);
+                self.put(x1, y, BOX_EDGE);
+            }
+        }
+        let p = world.particles();
+        for i in 0..p.len() {
+            let [cx, cy] = view.to_pixel([p.x()[i], p.y()[i]], w, h);
+            let r = p.radius()[i] * view.scale;
+            if cx + r < 0.0 || cy + r < 0.0 || cx - r > w as f64 || cy - r > h as f64 {
+                continue;
+            }
+            let colour = palette.colour(p.ids()[i].0 as usize, p.vx()[i].hypot(p.vy()[i]), p.radius()[i]);
+            if r < 0.7 {
+                self.put(cx as isize, cy as isize, colour);
+                continue;
+            }
+            // Pixels whose centres lie inside the disc.
+            let y_lo = (cy - r).floor().max(0.0) as usize;
+            let y_hi = ((cy + r).ceil() as usize).min(h);
+            for y in y_lo..y_hi {
+                let dy = y as f64 + 0.5 - cy;
+                let half = r * r - dy * dy;
+                if half < 0.0 {
+                    continue;
+                }
+                let half = half.sqrt();
+                let x_lo = (cx - half + 0.5).floor().max(0.0) as usize;
+                let x_hi = ((cx + half + 0.5).floor().max(0.0) as usize).min(w);
+                let row = y * w;
+                for x in x_lo..x_hi {
+                    let k = (row + x) * 4;
+                    self.pixels[k..k + 4].copy_from_slice(&[colour[0], colour[1], colour[2], 255]);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bounce::{Boundary, Config, Particle};
+
+    #[test]
+    fn view_round_trips_and_zooms_about_the_cursor() {
+        let mut v = View::fit([0.0, 0.0], [100.0, 50.0], 400, 200);
+        let px = v.to_pixel([30.0, 20.0], 400, 200);
+        let back = v.to_world(px, 400, 200);
+        assert!((back[0] - 30.0).abs() < 1e-9 && (back[1] - 20.0).abs() < 1e-9);
+        v.zoom_at(px, 2.0, 400, 200);
+        let again = v.to_pixel([30.0, 20.0], 400, 200);
+        assert!((again[0] - px[0]).abs() < 1e-9 && (again[1] - px[1]).abs() < 1e-9);
+    }
+
+    #[test]
+    fn discs_land_where_the_particles_are() {
+        let mut world = World::new(Config {
+            boundary: Boundary::walls([0.0, 0.0], [20.0, 10.0]),
+            ..Config::default()
+        })
+        .unwrap();
+        world.add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 1.0)).unwrap();
+        let view = View { centre: [10.0, 5.0], scale: 10.0 };
+        let palette = Palette {
+            colour_by: ColorBy::Color,
+            colours: vec![Some([255, 0, 0])],
+            speed_scale: 1.0,
+            radius_range: [1.0, 1.0],
+        };
+        let mut raster = Raster::new(200, 100);
+        raster.draw(&world, &view, &palette);
+        let at = |x: usize, y: usize| &raster.pixels[(y * 200 + x) * 4..(y * 200 + x) * 4 + 3];
+        assert_eq!(at(50, 50), &[255, 0, 0]);
+        assert_eq!(at(58, 50), &[255, 0, 0]);
+        assert_eq!(at(62, 50), &BACKGROUND);
+        assert_eq!(at(150, 20), &BACKGROUND);
+    }
+}
