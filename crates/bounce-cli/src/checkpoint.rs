@@ -13,6 +13,7 @@ pub fn save(world: &World, path: &Path) -> Result<()> {
 
 /// Reads a world written by [`save`]; every problem names the file.
 pub fn load(path: &Path) -> Result<World> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read checkpoint {}", path.display()))?;
+    let bytes = std::fs::read(path)
+        .with_context(|| format!("cannot read checkpoint {}", path.display()))?;
     bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string()).map_err(|e| anyhow!(e))
 }

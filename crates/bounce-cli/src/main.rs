@@ -59,6 +59,17 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// Watch and play with a scenario in a window (the built-in demo without one).
+    View {
+        /// The scenario file (TOML).
+        scenario: Option<PathBuf>,
+        /// Render this many frames, save a screenshot and close (for tests and CI).
+        #[arg(long, requires = "screenshot")]
+        headless_frames: Option<u32>,
+        /// Where the headless screenshot goes (PNG; a .txt beside it locates the discs).
+        #[arg(long, requires = "headless_frames")]
+        screenshot: Option<PathBuf>,
+    },
     /// Validate a scenario file and report every problem with its line.
     Check {
         /// The scenario file (TOML).
@@ -138,6 +149,18 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                     );
                 }
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::View {
+            scenario,
+            headless_frames,
+            screenshot,
+        } => {
+            let headless = headless_frames
+                .zip(screenshot)
+                .map(|(frames, screenshot)| bounce_viewer::Headless { frames, screenshot });
+            bounce_viewer::run(bounce_viewer::Options { scenario, headless })
+                .map_err(|e| anyhow::anyhow!(e))?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Check { scenario } => {

@@ -10,7 +10,8 @@ const VERSION: u32 = 1;
 pub fn encode(world: &World) -> Result<Vec<u8>, String> {
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&VERSION.to_le_bytes());
-    let body = postcard::to_stdvec(world).map_err(|e| format!("cannot encode the checkpoint: {e}"))?;
+    let body =
+        postcard::to_stdvec(world).map_err(|e| format!("cannot encode the checkpoint: {e}"))?;
     bytes.extend_from_slice(&body);
     Ok(bytes)
 }
@@ -18,14 +19,18 @@ pub fn encode(world: &World) -> Result<Vec<u8>, String> {
 /// A world from checkpoint bytes; `name` (the file) starts every error message.
 pub fn decode(bytes: &[u8], name: &str) -> Result<World, String> {
     let Some(rest) = bytes.strip_prefix(MAGIC.as_slice()) else {
-        return Err(format!("{name} is not a bounce checkpoint (no checkpoint header)"));
+        return Err(format!(
+            "{name} is not a bounce checkpoint (no checkpoint header)"
+        ));
     };
     if rest.len() < 4 {
         return Err(format!("{name}: checkpoint is truncated"));
     }
     let version = u32::from_le_bytes(rest[..4].try_into().expect("4 bytes"));
     if version != VERSION {
-        return Err(format!("{name}: checkpoint version {version}, this bounce reads version {VERSION}"));
+        return Err(format!(
+            "{name}: checkpoint version {version}, this bounce reads version {VERSION}"
+        ));
     }
     postcard::from_bytes(&rest[4..]).map_err(|e| format!("{name}: corrupt checkpoint: {e}"))
 }
@@ -38,11 +43,24 @@ mod tests {
     #[test]
     fn round_trip_and_refusals() {
         let mut world = World::new(Config::default()).unwrap();
-        world.add_particle(Particle::new([1.0, 2.0], [3.0, 4.0], 0.5)).unwrap();
+        world
+            .add_particle(Particle::new([1.0, 2.0], [3.0, 4.0], 0.5))
+            .unwrap();
         let bytes = encode(&world).unwrap();
-        assert_eq!(decode(&bytes, "c").unwrap().state_hash(), world.state_hash());
-        assert!(decode(b"junk", "c").unwrap_err().contains("not a bounce checkpoint"));
-        assert!(decode(&bytes[..bytes.len() - 3], "c").unwrap_err().contains("corrupt"));
+        assert_eq!(
+            decode(&bytes, "c").unwrap().state_hash(),
+            world.state_hash()
+        );
+        assert!(
+            decode(b"junk", "c")
+                .unwrap_err()
+                .contains("not a bounce checkpoint")
+        );
+        assert!(
+            decode(&bytes[..bytes.len() - 3], "c")
+                .unwrap_err()
+                .contains("corrupt")
+        );
         let mut other = bytes.clone();
         other[18] = 9;
         assert!(decode(&other, "c").unwrap_err().contains("version 9"));

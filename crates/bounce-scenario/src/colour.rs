@@ -48,7 +48,11 @@ pub fn ramp(t: f64) -> Rgb {
         [170, 210, 60],
         [250, 230, 40],
     ];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 1.0 } * (STOPS.len() - 1) as f64;
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        1.0
+    } * (STOPS.len() - 1) as f64;
     let k = (t.floor() as usize).min(STOPS.len() - 2);
     let f = t - k as f64;
     let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;

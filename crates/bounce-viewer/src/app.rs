@@ -60,17 +60,33 @@ struct HeadlessState {
     shot: Arc<Mutex<Option<Arc<egui::ColorImage>>>>,
     canvas: egui::Rect,
     pixels_per_point: f32,
-    result: Arc<Mutex<Result<(), String>>>,
+    result: Outcome,
+}
+
+/// Where a headless run leaves its result for [`crate::run`].
+pub type Outcome = Arc<Mutex<Result<(), String>>>;
+
+/// What a scenario text loads into.
+struct Loaded {
+    world: World,
+    colours: Vec<Option<Rgb>>,
+    dt: f64,
+    colour_by: ColorBy,
 }
 
 impl ViewerApp {
     /// The app for a scenario (or the built-in demo).
     pub fn new(
         scenario: Option<(String, String)>,
-        headless: Option<(Headless, Arc<Mutex<Result<(), String>>>)>,
+        headless: Option<(Headless, Outcome)>,
     ) -> Result<Self, String> {
         let (name, text) = scenario.unwrap_or_else(|| ("built-in demo".into(), DEMO.into()));
-        let (world, colours, dt, colour_by) = load(&name, &text)?;
+        let Loaded {
+            world,
+            colours,
+            dt,
+            colour_by,
+        } = load(&name, &text)?;
         let palette = Palette::for_world(&world, colour_by, colours.clone());
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let mut app = ViewerApp {
@@ -108,22 +124,29 @@ impl ViewerApp {
                 result,
             }),
         };
-        app.world
-            .set_threads(threads)
-            .map_err(|e| e.to_string())?;
+        app.world.set_threads(threads).map_err(|e| e.to_string())?;
         app.spawn_radius = app.typical_radius();
         Ok(app)
     }
 
     fn typical_radius(&self) -> f64 {
         let r = self.world.particles().radius();
-        if r.is_empty() { 0.5 } else { r.iter().sum::<f64>() / r.len() as f64 }
+        if r.is_empty() {
+            0.5
+        } else {
+            r.iter().sum::<f64>() / r.len() as f64
+        }
     }
 
     /// Replaces the simulation with a scenario text.
     fn open(&mut self, name: String, text: String) {
         match load(&name, &text) {
-            Ok((world, colours, dt, colour_by)) => {
+            Ok(Loaded {
+                world,
+                colours,
+                dt,
+                colour_by,
+            }) => {
                 let threads = self.world.threads();
                 self.world = world;
                 let _ = self.world.set_threads(threads);
@@ -171,8 +194,12 @@ impl ViewerApp {
 
     fn record(&mut self) {
         let s = self.world.stats();
-        self.history
-            .push_back([self.world.time(), s.kinetic_energy, s.momentum[0], s.momentum[1]]);
+        self.history.push_back([
+            self.world.time(),
+            s.kinetic_energy,
+            s.momentum[0],
+            s.momentum[1],
+        ]);
         while self.history.len() > HISTORY {
             self.history.pop_front();
         }
@@ -192,7 +219,9 @@ impl ViewerApp {
         let path = self.path_or("checkpoint.bin");
         let loaded = std::fs::read(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))
-            .and_then(|bytes| bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string()));
+            .and_then(|bytes| {
+                bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string())
+            });
         match loaded {
             Ok(world) => {
                 let threads = self.world.threads();
@@ -217,14 +246,21 @@ impl ViewerApp {
     }
 
     fn path_or(&self, default: &str) -> PathBuf {
-        PathBuf::from(if self.path.trim().is_empty() { default } else { self.path.trim() })
+        PathBuf::from(if self.path.trim().is_empty() {
+            default
+        } else {
+            self.path.trim()
+        })
     }
 
     fn controls(&mut self, ui: &mut egui::Ui) {
         ui.heading("bounce");
         ui.label(&self.source.name);
         ui.horizontal(|ui| {
-            if ui.button(if self.running { "⏸ pause" } else { "▶ play" }).clicked() {
+            if ui
+                .button(if self.running { "pause" } else { "play" })
+                .clicked()
+            {
                 self.running = !self.running;
             }
             if ui.button("step").clicked() {
@@ -239,11 +275,21 @@ impl ViewerApp {
         ui.label("physics (the seed's parameters)");
         let mut config = self.world.config().clone();
         let before = config.clone();
-        ui.add(egui::Slider::new(&mut config.collision_radius_scale, 0.5..=2.0).text("collision_radius_scale"));
-        ui.add(egui::Slider::new(&mut config.coefficient_of_restitution, 0.0..=1.0).text("restitution"));
+        ui.add(
+            egui::Slider::new(&mut config.collision_radius_scale, 0.5..=2.0)
+                .text("collision_radius_scale"),
+        );
+        ui.add(
+            egui::Slider::new(&mut config.coefficient_of_restitution, 0.0..=1.0)
+                .text("restitution"),
+        );
         ui.add(egui::Slider::new(&mut config.gravity[0], -20.0..=20.0).text("gravity x"));
         ui.add(egui::Slider::new(&mut config.gravity[1], -20.0..=20.0).text("gravity y"));
-        ui.add(egui::Slider::new(&mut self.dt, 0.0005..=0.05).logarithmic(true).text("dt"));
+        ui.add(
+            egui::Slider::new(&mut self.dt, 0.0005..=0.05)
+                .logarithmic(true)
+                .text("dt"),
+        );
         ui.add(egui::Slider::new(&mut config.substeps, 1..=16).text("substeps"));
         ui.label("model options");
         egui::ComboBox::from_label("mass")
@@ -251,7 +297,11 @@ impl ViewerApp {
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut config.mass_model, MassModel::Radius, "radius (seed)");
                 ui.selectable_value(&mut config.mass_model, MassModel::Area, "area");
-                ui.selectable_value(&mut config.mass_model, MassModel::PerParticle, "per particle");
+                ui.selectable_value(
+                    &mut config.mass_model,
+                    MassModel::PerParticle,
+                    "per particle",
+                );
             });
         let mut newton = config.restitution_model == RestitutionModel::RelativeNormalVelocity;
         ui.checkbox(&mut newton, "momentum-conserving restitution");
@@ -283,7 +333,11 @@ impl ViewerApp {
         if old != self.colour_by {
             self.palette = Palette::for_world(&self.world, self.colour_by, self.colours.clone());
         }
-        ui.add(egui::Slider::new(&mut self.spawn_radius, 0.05..=5.0).logarithmic(true).text("spawn radius"));
+        ui.add(
+            egui::Slider::new(&mut self.spawn_radius, 0.05..=5.0)
+                .logarithmic(true)
+                .text("spawn radius"),
+        );
         ui.separator();
         ui.label("file (scenario or checkpoint)");
         ui.text_edit_singleline(&mut self.path);
@@ -338,7 +392,11 @@ impl ViewerApp {
         ui.separator();
         ui.label("kinetic energy and |momentum|");
         let energy: PlotPoints = self.history.iter().map(|h| [h[0], h[1]]).collect();
-        let momentum: PlotPoints = self.history.iter().map(|h| [h[0], h[2].hypot(h[3])]).collect();
+        let momentum: PlotPoints = self
+            .history
+            .iter()
+            .map(|h| [h[0], h[2].hypot(h[3])])
+            .collect();
         Plot::new("energy")
             .height(150.0)
             .legend(Legend::default())
@@ -355,7 +413,9 @@ impl ViewerApp {
             .legend(Legend::default())
             .allow_scroll(false)
             .show(ui, |plot| {
-                plot.bar_chart(BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)));
+                plot.bar_chart(
+                    BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)),
+                );
                 plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
             });
     }
@@ -367,7 +427,12 @@ impl ViewerApp {
             return (Vec::new(), PlotPoints::from(Vec::<[f64; 2]>::new()));
         }
         let model = self.world.config().mass_model;
-        let speeds: Vec<f64> = p.vx().iter().zip(p.vy()).map(|(x, y)| x.hypot(*y)).collect();
+        let speeds: Vec<f64> = p
+            .vx()
+            .iter()
+            .zip(p.vy())
+            .map(|(x, y)| x.hypot(*y))
+            .collect();
         let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-9) * 1.05;
         let bins = 30;
         let width = v_max / bins as f64;
@@ -378,23 +443,31 @@ impl ViewerApp {
         let bars = counts
             .iter()
             .enumerate()
-            .map(|(k, &c)| Bar::new((k as f64 + 0.5) * width, c as f64 / (n as f64 * width)).width(width))
+            .map(|(k, &c)| {
+                Bar::new((k as f64 + 0.5) * width, c as f64 / (n as f64 * width)).width(width)
+            })
             .collect();
         // Temperature from the kinetic energy in the centre-of-mass frame (2D: kT per disc).
         let masses: Vec<f64> = (0..n)
             .step_by((n / 2000).max(1))
             .map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i]))
             .collect();
-        let total_mass: f64 =
-            (0..n).map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i])).sum();
+        let total_mass: f64 = (0..n)
+            .map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i]))
+            .sum();
         let s = self.world.stats();
-        let drift = (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass.max(1e-300));
+        let drift =
+            (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass.max(1e-300));
         let kt = ((s.kinetic_energy - drift) / n as f64).max(0.0);
         let curve: Vec<[f64; 2]> = (0..=120)
             .map(|k| {
                 let v = v_max * k as f64 / 120.0;
                 let density = if kt > 0.0 {
-                    masses.iter().map(|&m| maxwell_boltzmann_pdf(v, kt, m)).sum::<f64>() / masses.len() as f64
+                    masses
+                        .iter()
+                        .map(|&m| maxwell_boltzmann_pdf(v, kt, m))
+                        .sum::<f64>()
+                        / masses.len() as f64
                 } else {
                     0.0
                 };
@@ -416,7 +489,9 @@ impl ViewerApp {
         if self.raster.width != w || self.raster.height != h {
             self.raster = Raster::new(w, h);
         }
-        let view = *self.view.get_or_insert_with(|| initial_view(&self.world, w, h));
+        let view = *self
+            .view
+            .get_or_insert_with(|| initial_view(&self.world, w, h));
         self.handle_mouse(ui, &response, rect, ppp, w, h);
         let view = self.view.unwrap_or(view);
         self.raster.draw(&self.world, &view, &self.palette);
@@ -424,7 +499,11 @@ impl ViewerApp {
         match &mut self.texture {
             Some(t) => t.set(image, TextureOptions::NEAREST),
             None => {
-                self.texture = Some(ui.ctx().load_texture("bounce", image, TextureOptions::NEAREST));
+                self.texture = Some(ui.ctx().load_texture(
+                    "bounce",
+                    image,
+                    TextureOptions::NEAREST,
+                ));
             }
         }
         if let Some(t) = &self.texture {
@@ -450,8 +529,15 @@ impl ViewerApp {
         w: usize,
         h: usize,
     ) {
-        let Some(view) = self.view.as_mut() else { return };
-        let to_px = |pos: egui::Pos2| [((pos.x - rect.min.x) * ppp) as f64, ((pos.y - rect.min.y) * ppp) as f64];
+        let Some(view) = self.view.as_mut() else {
+            return;
+        };
+        let to_px = |pos: egui::Pos2| {
+            [
+                ((pos.x - rect.min.x) * ppp) as f64,
+                ((pos.y - rect.min.y) * ppp) as f64,
+            ]
+        };
         // Scroll zooms about the cursor.
         if let Some(pos) = response.hover_pos() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
@@ -484,7 +570,10 @@ impl ViewerApp {
             });
             if far_enough {
                 let d = response.drag_delta() * ppp;
-                let v = [d.x as f64 / view.scale / self.dt.max(1e-9) * 0.1, -d.y as f64 / view.scale / self.dt.max(1e-9) * 0.1];
+                let v = [
+                    d.x as f64 / view.scale / self.dt.max(1e-9) * 0.1,
+                    -d.y as f64 / view.scale / self.dt.max(1e-9) * 0.1,
+                ];
                 self.spawn(world_pos, v);
                 self.last_spawn = Some(world_pos);
             }
@@ -496,13 +585,19 @@ impl ViewerApp {
         }
         if response.dragged_by(PointerButton::Secondary) && self.fling.is_none() {
             let d = response.drag_delta() * ppp;
-            let dv = [d.x as f64 / view.scale * 2.0, -d.y as f64 / view.scale * 2.0];
+            let dv = [
+                d.x as f64 / view.scale * 2.0,
+                -d.y as f64 / view.scale * 2.0,
+            ];
             let reach = 40.0 / view.scale;
             self.world.push_region(world_pos, reach, dv);
         }
         if response.drag_stopped_by(PointerButton::Secondary) {
             if let (Some(id), Some(start)) = (self.fling, self.drag_start) {
-                let v = [(world_pos[0] - start[0]) * 3.0, (world_pos[1] - start[1]) * 3.0];
+                let v = [
+                    (world_pos[0] - start[0]) * 3.0,
+                    (world_pos[1] - start[1]) * 3.0,
+                ];
                 if let Err(e) = self.world.set_velocity(id, v) {
                     self.message = e.to_string();
                 }
@@ -549,31 +644,39 @@ impl ViewerApp {
 
     fn help(&mut self, ctx: &egui::Context) {
         let mut open = self.show_help;
-        egui::Window::new("help").open(&mut open).collapsible(false).show(ctx, |ui| {
-            egui::Grid::new("keys").num_columns(2).show(ui, |ui| {
-                for (key, what) in [
-                    ("space", "play / pause"),
-                    (".", "one step"),
-                    ("r", "reset to the scenario"),
-                    ("h or ?", "this help"),
-                    ("left click / drag", "spawn discs (a drag gives them its velocity)"),
-                    ("right drag on a disc", "fling it"),
-                    ("right drag elsewhere", "push the discs around the cursor"),
-                    ("scroll", "zoom about the cursor"),
-                    ("middle drag", "pan"),
-                ] {
-                    ui.monospace(key);
-                    ui.label(what);
-                    ui.end_row();
-                }
+        egui::Window::new("help")
+            .open(&mut open)
+            .collapsible(false)
+            .show(ctx, |ui| {
+                egui::Grid::new("keys").num_columns(2).show(ui, |ui| {
+                    for (key, what) in [
+                        ("space", "play / pause"),
+                        (".", "one step"),
+                        ("r", "reset to the scenario"),
+                        ("h or ?", "this help"),
+                        (
+                            "left click / drag",
+                            "spawn discs (a drag gives them its velocity)",
+                        ),
+                        ("right drag on a disc", "fling it"),
+                        ("right drag elsewhere", "push the discs around the cursor"),
+                        ("scroll", "zoom about the cursor"),
+                        ("middle drag", "pan"),
+                    ] {
+                        ui.monospace(key);
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                });
             });
-        });
         self.show_help = open;
     }
 
     /// Headless runs count frames, then take and save a screenshot and close.
     fn headless_frame(&mut self, ctx: &egui::Context) {
-        let Some(state) = &mut self.headless else { return };
+        let Some(state) = &mut self.headless else {
+            return;
+        };
         state.frames += 1;
         ctx.request_repaint();
         if state.frames >= state.spec.frames && !state.requested {
@@ -588,7 +691,15 @@ impl ViewerApp {
         let shot = state.shot.lock().expect("screenshot slot").take();
         if let Some(image) = shot {
             let seconds = state.started.elapsed().as_secs_f64();
-            let result = crate::save_screenshot(&image, &state.spec.screenshot, state.canvas, state.pixels_per_point, &self.world, self.view.as_ref(), (self.raster.width, self.raster.height));
+            let result = crate::save_screenshot(
+                &image,
+                &state.spec.screenshot,
+                state.canvas,
+                state.pixels_per_point,
+                &self.world,
+                self.view.as_ref(),
+                (self.raster.width, self.raster.height),
+            );
             println!(
                 "rendered {} frames of {} particles in {seconds:.2} s: {:.1} frames/s (last step {:.2} ms)",
                 state.frames,
@@ -637,15 +748,23 @@ impl eframe::App for ViewerApp {
 }
 
 /// A world, colours, dt and colouring from scenario text.
-fn load(name: &str, text: &str) -> Result<(World, Vec<Option<Rgb>>, f64, ColorBy), String> {
+fn load(name: &str, text: &str) -> Result<Loaded, String> {
     let scenario = bounce_scenario::parse(text, name).map_err(|e| e.to_string())?;
     let built = scenario.build(text, name).map_err(|e| e.to_string())?;
-    let colour_by = scenario.output.color_by.unwrap_or(if scenario.has_colours() {
-        ColorBy::Color
-    } else {
-        ColorBy::Speed
-    });
-    Ok((built.world, built.colours, scenario.time.dt, colour_by))
+    let colour_by = scenario
+        .output
+        .color_by
+        .unwrap_or(if scenario.has_colours() {
+            ColorBy::Color
+        } else {
+            ColorBy::Speed
+        });
+    Ok(Loaded {
+        world: built.world,
+        colours: built.colours,
+        dt: scenario.time.dt,
+        colour_by,
+    })
 }
 
 /// The box, or the particles' extent for an open world.
@@ -657,7 +776,10 @@ fn initial_view(world: &World, w: usize, h: usize) -> View {
         if p.is_empty() {
             ([-10.0, -10.0], [10.0, 10.0])
         } else {
-            ([lo(p.x()) - 5.0, lo(p.y()) - 5.0], [hi(p.x()) + 5.0, hi(p.y()) + 5.0])
+            (
+                [lo(p.x()) - 5.0, lo(p.y()) - 5.0],
+                [hi(p.x()) + 5.0, hi(p.y()) + 5.0],
+            )
         }
     });
     View::fit(min, max, w, h)

@@ -30,7 +30,11 @@ impl View {
         let scale = (width as f64 / w).min(height as f64 / h) * 0.96;
         View {
             centre: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
-            scale: if scale.is_finite() && scale > 0.0 { scale } else { 1.0 },
+            scale: if scale.is_finite() && scale > 0.0 {
+                scale
+            } else {
+                1.0
+            },
         }
     }
 
@@ -77,9 +81,24 @@ impl Palette {
     pub fn for_world(world: &World, colour_by: ColorBy, colours: Vec<Option<Rgb>>) -> Self {
         let p = world.particles();
         let n = p.len().max(1) as f64;
-        let mean_v2 = p.vx().iter().zip(p.vy()).map(|(x, y)| x * x + y * y).sum::<f64>() / n;
-        let max_speed = p.vx().iter().zip(p.vy()).map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max);
-        let speed_scale = if mean_v2 > 0.0 { 2.5 * mean_v2.sqrt() } else { max_speed.max(1.0) };
+        let mean_v2 = p
+            .vx()
+            .iter()
+            .zip(p.vy())
+            .map(|(x, y)| x * x + y * y)
+            .sum::<f64>()
+            / n;
+        let max_speed = p
+            .vx()
+            .iter()
+            .zip(p.vy())
+            .map(|(x, y)| x.hypot(*y))
+            .fold(0.0, f64::max);
+        let speed_scale = if mean_v2 > 0.0 {
+            2.5 * mean_v2.sqrt()
+        } else {
+            max_speed.max(1.0)
+        };
         let radius_range = [
             p.radius().iter().copied().fold(f64::INFINITY, f64::min),
             p.radius().iter().copied().fold(0.0, f64::max),
@@ -97,7 +116,11 @@ impl Palette {
             ColorBy::Speed => ramp(speed / self.speed_scale),
             ColorBy::Radius => {
                 let [lo, hi] = self.radius_range;
-                ramp(if hi > lo { (radius - lo) / (hi - lo) } else { 0.5 })
+                ramp(if hi > lo {
+                    (radius - lo) / (hi - lo)
+                } else {
+                    0.5
+                })
             }
             ColorBy::Color => self.colours.get(id).copied().flatten().unwrap_or(NO_COLOUR),
         }
@@ -157,7 +180,11 @@ impl Raster {
             if cx + r < 0.0 || cy + r < 0.0 || cx - r > w as f64 || cy - r > h as f64 {
                 continue;
             }
-            let colour = palette.colour(p.ids()[i].0 as usize, p.vx()[i].hypot(p.vy()[i]), p.radius()[i]);
+            let colour = palette.colour(
+                p.ids()[i].0 as usize,
+                p.vx()[i].hypot(p.vy()[i]),
+                p.radius()[i],
+            );
             if r < 0.7 {
                 self.put(cx as isize, cy as isize, colour);
                 continue;
@@ -207,8 +234,13 @@ mod tests {
             ..Config::default()
         })
         .unwrap();
-        world.add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 1.0)).unwrap();
-        let view = View { centre: [10.0, 5.0], scale: 10.0 };
+        world
+            .add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 1.0))
+            .unwrap();
+        let view = View {
+            centre: [10.0, 5.0],
+            scale: 10.0,
+        };
         let palette = Palette {
             colour_by: ColorBy::Color,
             colours: vec![Some([255, 0, 0])],

@@ -58,13 +58,21 @@ pub fn run(options: Options) -> Result<(), String> {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1280.0, 800.0])
             .with_title("bounce"),
-        vsync: options.headless.is_none(),
         ..Default::default()
     };
-    eframe::run_native("bounce", native, Box::new(|_cc| Ok(Box::new(app))))
-        .map_err(|e| format!("cannot open a window: {e} (is DISPLAY set? headless machines can use xvfb-run)"))?;
-    let outcome = result.lock().map_err(|_| "viewer state poisoned".to_string())?.clone();
-    if options.headless.is_some() && !options.headless.as_ref().is_some_and(|h| h.screenshot.exists()) {
+    eframe::run_native("bounce", native, Box::new(|_cc| Ok(Box::new(app)))).map_err(|e| {
+        format!("cannot open a window: {e} (is DISPLAY set? headless machines can use xvfb-run)")
+    })?;
+    let outcome = result
+        .lock()
+        .map_err(|_| "viewer state poisoned".to_string())?
+        .clone();
+    if options.headless.is_some()
+        && !options
+            .headless
+            .as_ref()
+            .is_some_and(|h| h.screenshot.exists())
+    {
         outcome.clone()?;
         return Err("the window closed before the screenshot was taken".into());
     }
@@ -102,7 +110,12 @@ fn save_screenshot(
         let p = world.particles();
         for i in 0..p.len().min(1000) {
             let [px, py] = view.to_pixel([p.x()[i], p.y()[i]], raster.0, raster.1);
-            text.push_str(&format!("disc {} {} {}\n", x0 + px, y0 + py, p.radius()[i] * view.scale));
+            text.push_str(&format!(
+                "disc {} {} {}\n",
+                x0 + px,
+                y0 + py,
+                p.radius()[i] * view.scale
+            ));
         }
     }
     let side = path.with_extension("txt");

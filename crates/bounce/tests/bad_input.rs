@@ -239,14 +239,20 @@ fn a_checkpoint_with_bad_values_is_refused() {
 #[test]
 fn interactive_edits_validate_and_count() {
     let mut w = walled();
-    let a = w.add_particle(Particle::new([2.0, 2.0], [0.0, 0.0], 0.5)).unwrap();
-    w.add_particle(Particle::new([8.0, 8.0], [0.0, 0.0], 0.5)).unwrap();
+    let a = w
+        .add_particle(Particle::new([2.0, 2.0], [0.0, 0.0], 0.5))
+        .unwrap();
+    w.add_particle(Particle::new([8.0, 8.0], [0.0, 0.0], 0.5))
+        .unwrap();
     assert_eq!(w.particle_at([2.3, 2.0]), Some(a));
     assert_eq!(w.particle_at([5.0, 5.0]), None);
     assert_eq!(w.push_region([2.0, 2.0], 1.0, [1.0, 0.0]), 1);
     assert_eq!(w.particle(a).unwrap().velocity, [1.0, 0.0]);
     assert_eq!(w.push_region([2.0, 2.0], f64::NAN, [1.0, 0.0]), 0);
-    assert!(matches!(w.set_velocity(a, [f64::NAN, 0.0]), Err(ParticleError::NonFiniteVelocity(_))));
+    assert!(matches!(
+        w.set_velocity(a, [f64::NAN, 0.0]),
+        Err(ParticleError::NonFiniteVelocity(_))
+    ));
     assert!(matches!(
         w.set_velocity(bounce::ParticleId(99), [0.0, 0.0]),
         Err(ParticleError::UnknownId(_))
