@@ -109,8 +109,10 @@ struct RapierSim {
 impl RapierSim {
     fn new(setup: &Setup) -> Self {
         use rapier2d::prelude::*;
-        let mut world = PhysicsWorld::default();
-        world.gravity = Vector::new(setup.gravity[0] as f32, setup.gravity[1] as f32);
+        let mut world = PhysicsWorld {
+            gravity: Vector::new(setup.gravity[0] as f32, setup.gravity[1] as f32),
+            ..PhysicsWorld::default()
+        };
         world.integration_parameters.dt = setup.dt as f32;
         world.integration_parameters.num_solver_iterations = setup.substeps as usize;
         let e = setup.restitution as f32;

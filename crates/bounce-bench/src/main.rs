@@ -132,7 +132,7 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
     // One trial step decides whether the peer is too slow to measure at this size.
     let trial = sim.step_timed();
     if trial > 2.0 {
-        println!("skipped {:.1} {}", peak_mb(), "a step took over 2 s");
+        println!("skipped {:.1} a step took over 2 s", peak_mb());
         return Ok(());
     }
     for _ in 0..3 {
