@@ -3,13 +3,13 @@
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
 
 use bounce::scene::maxwell_boltzmann_pdf;
 use bounce::{MassModel, Particle, RestitutionModel, VelocityUpdate, World};
 use bounce_scenario::{ColorBy, Rgb};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
+use web_time::Instant;
 
 use crate::canvas::{Palette, Raster, View};
 use crate::{DEMO, Headless};
@@ -49,6 +49,8 @@ pub struct ViewerApp {
     message: String,
     show_help: bool,
     headless: Option<HeadlessState>,
+    /// Screen rectangles of the play/pause and step buttons (for browser tests).
+    buttons: [egui::Rect; 2],
 }
 
 /// Progress of a `--headless-frames` run.
@@ -113,6 +115,7 @@ impl ViewerApp {
             path: String::new(),
             message: String::new(),
             show_help: false,
+            buttons: [egui::Rect::NOTHING; 2],
             headless: headless.map(|(spec, result)| HeadlessState {
                 spec,
                 frames: 0,
@@ -257,19 +260,29 @@ impl ViewerApp {
         ui.heading("bounce");
         ui.label(&self.source.name);
         ui.horizontal(|ui| {
-            if ui
-                .button(if self.running { "pause" } else { "play" })
-                .clicked()
-            {
+            let play = ui.button(if self.running { "pause" } else { "play" });
+            if play.clicked() {
                 self.running = !self.running;
             }
-            if ui.button("step").clicked() {
+            let step = ui.button("step");
+            if step.clicked() {
                 self.step();
             }
+            self.buttons = [play.rect, step.rect];
             if ui.button("reset").clicked() {
                 self.reset();
             }
         });
+        egui::ComboBox::from_label("built-in")
+            .selected_text("open…")
+            .show_ui(ui, |ui| {
+                for (name, text) in bounce_scenario::TEMPLATES {
+                    // A million discs is for the command line, not an interactive frame rate.
+                    if name != "million" && ui.selectable_label(false, name).clicked() {
+                        self.open(name.to_string(), text.to_string());
+                    }
+                }
+            });
         ui.add(egui::Slider::new(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
         ui.separator();
         ui.label("physics (the seed's parameters)");
@@ -387,6 +400,9 @@ impl ViewerApp {
             ui.end_row();
             ui.label("time");
             ui.label(format!("{:.3}", self.world.time()));
+            ui.end_row();
+            ui.label("state hash");
+            ui.monospace(format!("{:016x}", self.world.state_hash()));
             ui.end_row();
         });
         ui.separator();
@@ -616,6 +632,74 @@ impl ViewerApp {
         self.palette.colours = self.colours.clone();
     }
 
+    /// A scenario file dropped on the window. (In the browser the page reads dropped files
+    /// and calls [`ViewerApp::open_text`], since reading a file there is asynchronous.)
+    #[cfg(not(target_arch = "wasm32"))]
+    fn dropped(&mut self, ctx: &egui::Context) {
+        let files = ctx.input(|i| i.raw.dropped_files.clone());
+        for file in files {
+            let name = file.path().display().to_string();
+            match file
+                .bytes()
+                .and_then(|b| String::from_utf8(b).map_err(|e| e.to_string()))
+            {
+                Ok(text) => self.open(name, text),
+                Err(e) => self.message = format!("cannot read {name}: {e}"),
+            }
+        }
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    fn dropped(&mut self, _ctx: &egui::Context) {}
+
+    /// Opens scenario text (e.g. a file dropped on the page).
+    pub fn open_text(&mut self, name: &str, text: &str) -> Result<(), String> {
+        load(name, text)?;
+        self.open(name.to_string(), text.to_string());
+        Ok(())
+    }
+
+    /// `step N hash H particles P running B` for tests and the page.
+    pub fn status(&self) -> String {
+        format!(
+            "step {} hash {:016x} particles {} running {}",
+            self.world.step_count(),
+            self.world.state_hash(),
+            self.world.len(),
+            self.running
+        )
+    }
+
+    /// Opens a built-in scenario by name.
+    pub fn open_builtin(&mut self, name: &str) -> Result<(), String> {
+        let text =
+            bounce_scenario::template(name).ok_or(format!("no built-in scenario {name:?}"))?;
+        self.open(name.to_string(), text.to_string());
+        Ok(())
+    }
+
+    /// Pauses and steps until step `target` (for tests comparing with a native run).
+    pub fn run_to(&mut self, target: u64) {
+        self.running = false;
+        let per_frame = self.steps_per_frame;
+        self.steps_per_frame = 1;
+        while self.world.step_count() < target && self.world.step(self.dt).is_ok() {}
+        self.steps_per_frame = per_frame;
+        self.record();
+    }
+
+    /// `play X Y step X Y`: centres of the play/pause and step buttons in points (CSS
+    /// pixels in the browser), for tests that click them.
+    pub fn button_centres(&self) -> String {
+        let [play, step] = self.buttons.map(|r| r.center());
+        format!("play {} {} step {} {}", play.x, play.y, step.x, step.y)
+    }
+
+    /// Play (true) or pause.
+    pub fn set_running(&mut self, running: bool) {
+        self.running = running;
+    }
+
     fn keyboard(&mut self, ctx: &egui::Context) {
         if ctx.egui_wants_keyboard_input() {
             return;
@@ -714,6 +798,11 @@ impl ViewerApp {
 }
 
 impl eframe::App for ViewerApp {
+    #[cfg(target_arch = "wasm32")]
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(&mut *self)
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         let now = Instant::now();
@@ -725,6 +814,7 @@ impl eframe::App for ViewerApp {
         }
         self.last_frame = Some(now);
         self.keyboard(&ctx);
+        self.dropped(&ctx);
         if self.running {
             self.step();
         }

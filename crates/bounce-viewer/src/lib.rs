@@ -11,7 +11,10 @@
 mod app;
 pub mod canvas;
 
+pub use app::ViewerApp;
+
 use std::path::{Path, PathBuf};
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::{Arc, Mutex};
 
 use bounce::World;
@@ -41,6 +44,7 @@ pub struct Headless {
 
 /// Opens the window and runs until it is closed. Errors say why (no display, bad scenario,
 /// a screenshot that could not be written).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run(options: Options) -> Result<(), String> {
     let scenario = match &options.scenario {
         Some(path) => {

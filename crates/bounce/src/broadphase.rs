@@ -614,7 +614,8 @@ impl Context<'_> {
             let lo = floor_to_isize((pos[axis] - reach - fine.origin[axis]) * fine.inv_cell[axis]);
             let hi = floor_to_isize((pos[axis] + reach - fine.origin[axis]) * fine.inv_cell[axis]);
             let n = fine.n[axis] as isize;
-            let (lo, hi) = (lo.max(-(1 << 50)), hi.min(1 << 50));
+            // Far beyond any grid (cells per axis are capped at 10^6), and fits 32-bit isize.
+            let (lo, hi) = (lo.max(-(1 << 28)), hi.min(1 << 28));
             if fine.wrap {
                 if hi - lo + 1 >= n {
                     (0..n as usize).collect()

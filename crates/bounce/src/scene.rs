@@ -1,5 +1,7 @@
 //! Ready-made sets of discs that the examples, tests, benchmarks, CLI and viewer share:
-//! a random gas placed without overlap, and a lattice. Deterministic from a seed.
+//! a random gas placed without overlap, and a lattice. Deterministic from a seed, on every
+//! platform: the transcendental functions come from the pure-Rust `libm`, not the system's
+//! (whose last bits differ between glibc and WebAssembly).
 
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -205,7 +207,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
         let v = match spec.speeds {
             Speeds::Fixed(speed) => {
                 let angle = std::f64::consts::TAU * rng.random::<f64>();
-                [speed * angle.cos(), speed * angle.sin()]
+                [speed * libm::cos(angle), speed * libm::sin(angle)]
             }
             Speeds::Uniform(a) => [0, 1].map(|_| a * (2.0 * rng.random::<f64>() - 1.0)),
             Speeds::Temperature(kt) => {
@@ -227,9 +229,9 @@ fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
     // 1 - u is in (0, 1], so the logarithm is finite.
     let u1 = 1.0 - rng.random::<f64>();
     let u2 = rng.random::<f64>();
-    let radius = (-2.0 * u1.ln()).sqrt();
+    let radius = (-2.0 * libm::log(u1)).sqrt();
     let angle = std::f64::consts::TAU * u2;
-    [radius * angle.cos(), radius * angle.sin()]
+    [radius * libm::cos(angle), radius * libm::sin(angle)]
 }
 
 /// The discs of a lattice, row by row.

@@ -1,0 +1,174 @@
+//! The browser version in real headless Chromium: the page built by `scripts/build-web`,
+//! served on 127.0.0.1, driven by `web/e2e.mjs` (playwright-core). Checks the canvas shows
+//! discs, play/pause and step behave, and the state hash after 100 steps equals a native run.
+
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A static server for web/dist that stops when dropped.
+struct Server {
+    child: Child,
+    url: String,
+}
+
+impl Server {
+    fn start() -> Self {
+        let dist = root().join("web/dist");
+        assert!(
+            dist.join("index.html").exists() && dist.join("pkg/bounce_web_bg.wasm").exists(),
+            "web/dist is not built: run scripts/build-web (scripts/test does)"
+        );
+        let port = TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let child = Command::new("python3")
+            .args([
+                "-m",
+                "http.server",
+                "--bind",
+                "127.0.0.1",
+                &port.to_string(),
+                "-d",
+            ])
+            .arg(&dist)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("python3 serves the page");
+        let deadline = Instant::now() + Duration::from_secs(20);
+        while TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(Instant::now() < deadline, "the static server did not start");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        Server {
+            child,
+            url: format!("http://127.0.0.1:{port}"),
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The hash a native run of the built-in `gas` scenario has after 100 steps.
+fn native_gas_status_at_100() -> String {
+    let text = bounce_scenario::template("gas").unwrap();
+    let scenario = bounce_scenario::parse(text, "gas").unwrap();
+    let mut world = scenario.build(text, "gas").unwrap().world;
+    for _ in 0..100 {
+        world.step(scenario.time.dt).unwrap();
+    }
+    format!(
+        "step 100 hash {:016x} particles {}",
+        world.state_hash(),
+        world.len()
+    )
+}
+
+fn drive(server: &Server, mode: &str, screenshot: &Path) -> serde_json::Value {
+    let web = root().join("web");
+    assert!(
+        web.join("node_modules/playwright-core").exists(),
+        "playwright-core is not installed: run npm install in web/ (scripts/test does)"
+    );
+    let out = Command::new("node")
+        .current_dir(&web)
+        .arg("e2e.mjs")
+        .arg(&server.url)
+        .arg(screenshot)
+        .arg(mode)
+        .output()
+        .expect("node runs the browser driver");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "e2e.mjs failed: {stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout.lines().last().unwrap_or_default();
+    serde_json::from_str(line).unwrap_or_else(|e| panic!("not JSON ({e}): {stdout}"))
+}
+
+fn check_run(result: &serde_json::Value) {
+    assert!(result.get("error").is_none(), "{result}");
+    assert_eq!(
+        result["errors"].as_array().map(Vec::len),
+        Some(0),
+        "page errors: {result}"
+    );
+    let steps: Vec<u64> = result["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .collect();
+    let [running, paused_a, paused_b, stepped, resumed] = steps[..] else {
+        panic!("{result}")
+    };
+    assert!(running > 5, "frames advance the simulation: {result}");
+    assert_eq!(paused_a, paused_b, "paused means no steps: {result}");
+    assert_eq!(stepped, paused_b + 1, "step advances exactly one: {result}");
+    assert!(resumed > stepped + 2, "play resumes: {result}");
+    let native = native_gas_status_at_100();
+    let browser = result["hash_100"].as_str().unwrap();
+    assert!(
+        browser.starts_with(&native),
+        "browser {browser:?} vs native {native:?}"
+    );
+}
+
+/// Counts pixels in a rectangle that differ from the canvas background, and their colours.
+fn disc_pixels(png: &Path, x: std::ops::Range<u32>, y: std::ops::Range<u32>) -> (usize, usize) {
+    let image = tiny_skia::Pixmap::load_png(png).unwrap();
+    let mut colours = std::collections::HashSet::new();
+    let mut differing = 0;
+    for yy in y.step_by(2) {
+        for xx in x.clone().step_by(2) {
+            let c = image.pixel(xx, yy).unwrap();
+            let rgb = [c.red(), c.green(), c.blue()];
+            if rgb != [17, 20, 26] {
+                differing += 1;
+                colours.insert(rgb);
+            }
+        }
+    }
+    (differing, colours.len())
+}
+
+#[test]
+fn the_page_runs_the_viewer_on_webgl_with_native_bits() {
+    let server = Server::start();
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("webgl.png");
+    let result = drive(&server, "webgl", &shot);
+    check_run(&result);
+    // The simulation canvas sits between the panels: discs on the dark background.
+    let (differing, colours) = disc_pixels(&shot, 330..950, 90..700);
+    assert!(
+        differing > 5_000 && colours > 5,
+        "canvas shows {differing} disc pixels in {colours} colours"
+    );
+}
+
+#[test]
+fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
+    let server = Server::start();
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("fallback.png");
+    let result = drive(&server, "fallback", &shot);
+    check_run(&result);
+    let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
+    assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
+}

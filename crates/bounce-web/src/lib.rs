@@ -1,0 +1,175 @@
+//! bounce in the browser: the desktop viewer compiled to WebAssembly (eframe on WebGL), and a
+//! plain simulation handle the page uses to draw on a 2D canvas when WebGL is unavailable.
+//!
+//! Both expose the step count and the state hash, so a test can check that the browser
+//! computes the same bits as a native run. Built by `scripts/build-web` into `web/dist`.
+#![cfg(target_arch = "wasm32")]
+
+use bounce::World;
+use bounce_viewer::ViewerApp;
+use wasm_bindgen::prelude::*;
+
+/// The viewer running on a canvas.
+#[wasm_bindgen]
+pub struct WebHandle {
+    runner: eframe::WebRunner,
+}
+
+#[wasm_bindgen]
+impl WebHandle {
+    /// A handle; call [`WebHandle::start`] next.
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Self {
+        WebHandle {
+            runner: eframe::WebRunner::new(),
+        }
+    }
+
+    /// Starts the viewer on `canvas` with a built-in scenario (`demo` for the built-in demo).
+    pub async fn start(
+        &self,
+        canvas: web_sys::HtmlCanvasElement,
+        scenario: String,
+    ) -> Result<(), JsValue> {
+        let text = if scenario == "demo" {
+            None
+        } else {
+            let text = bounce_scenario::template(&scenario)
+                .ok_or_else(|| JsValue::from_str(&format!("no built-in scenario {scenario:?}")))?;
+            Some((scenario.clone(), text.to_string()))
+        };
+        let app = ViewerApp::new(text, None).map_err(|e| JsValue::from_str(&e))?;
+        self.runner
+            .start(
+                canvas,
+                eframe::WebOptions::default(),
+                Box::new(|_cc| Ok(Box::new(app))),
+            )
+            .await
+    }
+
+    fn with_app<T>(&self, f: impl FnOnce(&mut ViewerApp) -> T) -> Result<T, JsValue> {
+        let mut app = self
+            .runner
+            .app_mut::<ViewerApp>()
+            .ok_or_else(|| JsValue::from_str("the viewer is busy or has stopped"))?;
+        Ok(f(&mut app))
+    }
+
+    /// `step N hash H particles P running B`.
+    pub fn status(&self) -> Result<String, JsValue> {
+        self.with_app(|app| app.status())
+    }
+
+    /// Centres of the play/pause and step buttons, in CSS pixels of the canvas.
+    pub fn buttons(&self) -> Result<String, JsValue> {
+        self.with_app(|app| app.button_centres())
+    }
+
+    /// Pauses and runs until step `target`; returns the status.
+    pub fn run_to(&self, target: u32) -> Result<String, JsValue> {
+        self.with_app(|app| {
+            app.run_to(target as u64);
+            app.status()
+        })
+    }
+
+    /// Opens a built-in scenario.
+    pub fn open_builtin(&self, name: String) -> Result<(), JsValue> {
+        self.with_app(|app| app.open_builtin(&name))?
+            .map_err(|e| JsValue::from_str(&e))
+    }
+
+    /// Opens scenario text (a file dropped on the page).
+    pub fn open_text(&self, name: String, text: String) -> Result<(), JsValue> {
+        self.with_app(|app| app.open_text(&name, &text))?
+            .map_err(|e| JsValue::from_str(&e))
+    }
+
+    /// Plays or pauses.
+    pub fn set_running(&self, running: bool) -> Result<(), JsValue> {
+        self.with_app(|app| app.set_running(running))
+    }
+}
+
+impl Default for WebHandle {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// A bare simulation for the 2D-canvas fallback: the page steps it and draws the discs.
+#[wasm_bindgen]
+pub struct Simulation {
+    world: World,
+    dt: f64,
+}
+
+#[wasm_bindgen]
+impl Simulation {
+    /// A built-in scenario by name, or scenario text.
+    #[wasm_bindgen(constructor)]
+    pub fn new(name: String, text: Option<String>) -> Result<Simulation, JsValue> {
+        let text = match text {
+            Some(t) => t,
+            None => bounce_scenario::template(&name)
+                .ok_or_else(|| JsValue::from_str(&format!("no built-in scenario {name:?}")))?
+                .to_string(),
+        };
+        let scenario =
+            bounce_scenario::parse(&text, &name).map_err(|e| JsValue::from_str(&e.to_string()))?;
+        let built = scenario
+            .build(&text, &name)
+            .map_err(|e| JsValue::from_str(&e.to_string()))?;
+        Ok(Simulation {
+            world: built.world,
+            dt: scenario.time.dt,
+        })
+    }
+
+    /// Advances `n` steps.
+    pub fn step(&mut self, n: u32) -> Result<(), JsValue> {
+        for _ in 0..n {
+            self.world
+                .step(self.dt)
+                .map_err(|e| JsValue::from_str(&e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// `[x, y, r, x, y, r, ...]` of every disc.
+    pub fn discs(&self) -> Vec<f64> {
+        let p = self.world.particles();
+        (0..p.len())
+            .flat_map(|i| [p.x()[i], p.y()[i], p.radius()[i]])
+            .collect()
+    }
+
+    /// `[min_x, min_y, max_x, max_y]` of the box, or of the discs in an open world.
+    pub fn bounds(&self) -> Vec<f64> {
+        match self.world.config().boundary.bounds() {
+            Some((min, max)) => vec![min[0], min[1], max[0], max[1]],
+            None => {
+                let d = self.discs();
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for c in d.chunks(3) {
+                    for a in 0..2 {
+                        lo[a] = lo[a].min(c[a] - c[2]);
+                        hi[a] = hi[a].max(c[a] + c[2]);
+                    }
+                }
+                vec![lo[0], lo[1], hi[0], hi[1]]
+            }
+        }
+    }
+
+    /// `step N hash H particles P`.
+    pub fn status(&self) -> String {
+        format!(
+            "step {} hash {:016x} particles {}",
+            self.world.step_count(),
+            self.world.state_hash(),
+            self.world.len()
+        )
+    }
+}

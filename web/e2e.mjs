@@ -1,0 +1,73 @@
+// Drives the built page in headless Chromium (Debian's /usr/bin/chromium) and prints one JSON
+// object for crates/bounce-cli/tests/web.rs to check. Usage: node e2e.mjs URL SCREENSHOT.png MODE
+// where MODE is "webgl" (the viewer) or "fallback" (the 2D canvas page).
+import { chromium } from "playwright-core";
+import { mkdtempSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+
+const [url, screenshot, mode] = process.argv.slice(2);
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const stepOf = (status) => Number(/step (\d+)/.exec(status)[1]);
+
+const context = await chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), "bounce-chromium-")), {
+  executablePath: "/usr/bin/chromium",
+  headless: true,
+  viewport: { width: 1280, height: 800 },
+  args: [
+    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--no-first-run", "--disable-quic",
+  ],
+});
+const page = context.pages()[0] || (await context.newPage());
+const errors = [];
+page.on("pageerror", (e) => errors.push(String(e)));
+const result = { mode, errors };
+try {
+  if (mode === "webgl") {
+    await page.goto(`${url}/index.html?scenario=gas`);
+    await page.waitForFunction(() => window.bounce !== undefined, null, { timeout: 90000 });
+    await sleep(2000);
+    result.running = await page.evaluate(() => window.bounce.status());
+    await page.screenshot({ path: screenshot });
+    result.buttons = await page.evaluate(() => window.bounce.buttons());
+    const [, px, py, , sx, sy] = result.buttons.split(" ").map(Number);
+    await page.mouse.click(px, py); // pause
+    await sleep(500);
+    result.paused_a = await page.evaluate(() => window.bounce.status());
+    await sleep(700);
+    result.paused_b = await page.evaluate(() => window.bounce.status());
+    await page.mouse.click(sx, sy); // one step
+    await sleep(500);
+    result.stepped = await page.evaluate(() => window.bounce.status());
+    await page.mouse.click(px, py); // play again
+    await sleep(1000);
+    result.resumed = await page.evaluate(() => window.bounce.status());
+    await page.evaluate(() => window.bounce.open_builtin("gas"));
+    result.hash_100 = await page.evaluate(() => window.bounce.run_to(100));
+  } else {
+    await page.goto(`${url}/index.html?scenario=gas&no-webgl`);
+    await page.waitForFunction(() => window.bounceFallback !== undefined, null, { timeout: 90000 });
+    await sleep(1500);
+    result.running = await page.evaluate(() => window.bounceFallback.status());
+    await page.screenshot({ path: screenshot });
+    await page.click("#play");
+    await sleep(300);
+    result.paused_a = await page.evaluate(() => window.bounceFallback.status());
+    await sleep(500);
+    result.paused_b = await page.evaluate(() => window.bounceFallback.status());
+    await page.click("#step");
+    await sleep(300);
+    result.stepped = await page.evaluate(() => window.bounceFallback.status());
+    await page.click("#play");
+    await sleep(800);
+    result.resumed = await page.evaluate(() => window.bounceFallback.status());
+    result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
+  }
+  result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));
+} catch (e) {
+  result.error = String(e);
+}
+await context.close();
+console.log(JSON.stringify(result));
