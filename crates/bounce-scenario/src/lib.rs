@@ -276,7 +276,8 @@ pub struct OutputSpec {
     pub color_by: Option<ColorBy>,
     /// Write `plots.png` at the end; default true.
     pub plots: bool,
-    /// The region frames show in an open world; default the particles' extent at the start.
+    /// The region frames show; default the box (or, in an open world, the particles' extent
+    /// at the start).
     pub view: Option<RegionSpec>,
 }
 

@@ -874,3 +874,87 @@ fn initial_view(world: &World, w: usize, h: usize) -> View {
     });
     View::fit(min, max, w, h)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn app(name: &str) -> ViewerApp {
+        let text = bounce_scenario::template(name).unwrap();
+        ViewerApp::new(Some((name.into(), text.into())), None).unwrap()
+    }
+
+    fn step_of(status: &str) -> u64 {
+        status.split_whitespace().nth(1).unwrap().parse().unwrap()
+    }
+
+    #[test]
+    fn run_to_pauses_and_reaches_the_step_with_native_bits() {
+        let mut a = app("gas");
+        a.run_to(25);
+        assert!(!a.running);
+        let status = a.status();
+        assert_eq!(step_of(&status), 25);
+        // The same scenario stepped directly gives the same hash.
+        let text = bounce_scenario::template("gas").unwrap();
+        let scenario = bounce_scenario::parse(text, "gas").unwrap();
+        let mut world = scenario.build(text, "gas").unwrap().world;
+        for _ in 0..25 {
+            world.step(scenario.time.dt).unwrap();
+        }
+        assert!(
+            status.contains(&format!("{:016x}", world.state_hash())),
+            "{status}"
+        );
+    }
+
+    #[test]
+    fn checkpoints_save_and_load_through_the_path_field() {
+        let dir = std::env::temp_dir().join(format!("bounce-viewer-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("c.bin");
+        let mut a = app("mixing");
+        a.run_to(10);
+        a.path = file.display().to_string();
+        a.save_checkpoint();
+        assert!(a.message.starts_with("saved"), "{}", a.message);
+        let saved = a.status();
+        a.run_to(20);
+        a.load_checkpoint();
+        assert!(a.message.starts_with("loaded"), "{}", a.message);
+        assert_eq!(
+            a.status().replace("running false", ""),
+            saved.replace("running false", "")
+        );
+        a.path = dir.join("missing.bin").display().to_string();
+        a.load_checkpoint();
+        assert!(a.message.contains("cannot read"), "{}", a.message);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn opening_and_resetting_scenarios() {
+        let mut a = app("gas");
+        a.run_to(5);
+        assert!(a.open_text("bad.toml", "[world]\n").is_err());
+        assert_eq!(step_of(&a.status()), 5, "a bad file leaves the world alone");
+        a.open_builtin("newtons-cradle").unwrap();
+        assert!(a.status().contains("particles 6"), "{}", a.status());
+        assert!(a.open_builtin("nope").is_err());
+        a.run_to(3);
+        a.reset();
+        assert_eq!(step_of(&a.status()), 0);
+    }
+
+    #[test]
+    fn spawning_adds_coloured_discs_and_refuses_bad_places() {
+        let mut a = app("newtons-cradle");
+        let n = a.world.len();
+        a.spawn([20.0, 3.0], [1.0, 0.0]);
+        assert_eq!(a.world.len(), n + 1);
+        assert_eq!(a.colours.len(), n + 1);
+        a.spawn([500.0, 3.0], [0.0, 0.0]);
+        assert_eq!(a.world.len(), n + 1, "outside the walls");
+        assert!(a.message.contains("cannot place"), "{}", a.message);
+    }
+}
