@@ -129,6 +129,10 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
     let scene = SceneKind::parse(scene)?;
     let setup = scene.build();
     let mut sim = engine.create(&setup)?;
+    let count = setup.discs.len();
+    // The engine has its own copy now: free the shared one so the resident figure is the
+    // engine's.
+    drop(setup);
     // One trial step decides whether the peer is too slow to measure at this size.
     let trial = sim.step_timed();
     if trial > 2.0 {
@@ -138,7 +142,7 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
     for _ in 0..3 {
         sim.step_timed();
     }
-    let steps = match (quick, setup.discs.len()) {
+    let steps = match (quick, count) {
         (true, _) => 5,
         (false, n) if n >= 1_000_000 => 20,
         (false, n) if n >= 100_000 => 40,
@@ -147,21 +151,31 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
     let mut times: Vec<f64> = (0..steps).map(|_| sim.step_timed()).collect();
     times.sort_by(f64::total_cmp);
     println!(
-        "ok {:.6} {:.1} {}",
+        "ok {:.6} {:.1} {}; resident after the run {:.0} MB",
         times[times.len() / 2] * 1e3,
         peak_mb(),
-        sim.note()
+        sim.note(),
+        resident_mb()
     );
     Ok(())
 }
 
-/// Peak resident set size of this process, in MB (Linux `VmHWM`).
+/// Peak resident set size of this process, in MB (Linux `VmHWM`): setup included.
 fn peak_mb() -> f64 {
+    status_mb("VmHWM:")
+}
+
+/// Resident set size now, in MB (Linux `VmRSS`).
+fn resident_mb() -> f64 {
+    status_mb("VmRSS:")
+}
+
+fn status_mb(field: &str) -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| {
             s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
+                .find(|l| l.starts_with(field))
                 .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
         })
         .map_or(f64::NAN, |kb| kb / 1024.0)

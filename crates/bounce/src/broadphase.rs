@@ -610,7 +610,9 @@ impl Context<'_> {
         let p = self.p;
         let reach = (p.radius[a] + fine.max_radius) * self.scale;
         let pos = [p.x[a], p.y[a]];
-        let span = |axis: usize| -> Vec<usize> {
+        // The cells under the reach along one axis: a first cell and a count (wrapping in a
+        // periodic grid).
+        let span = |axis: usize| -> (isize, usize) {
             let lo = floor_to_isize((pos[axis] - reach - fine.origin[axis]) * fine.inv_cell[axis]);
             let hi = floor_to_isize((pos[axis] + reach - fine.origin[axis]) * fine.inv_cell[axis]);
             let n = fine.n[axis] as isize;
@@ -618,21 +620,29 @@ impl Context<'_> {
             let (lo, hi) = (lo.max(-(1 << 28)), hi.min(1 << 28));
             if fine.wrap {
                 if hi - lo + 1 >= n {
-                    (0..n as usize).collect()
+                    (0, n as usize)
                 } else {
-                    (lo..=hi).map(|c| c.rem_euclid(n) as usize).collect()
+                    (lo.rem_euclid(n), (hi - lo + 1) as usize)
                 }
             } else {
                 // Clamped like `coord`, so outliers in edge cells are still met.
-                let lo = lo.clamp(0, n - 1) as usize;
-                let hi = hi.clamp(0, n - 1) as usize;
-                (lo..=hi).collect()
+                let (lo, hi) = (lo.clamp(0, n - 1), hi.clamp(0, n - 1));
+                (lo, (hi - lo + 1) as usize)
             }
         };
-        let xs = span(0);
-        for cy in span(1) {
-            for &cx in &xs {
-                let range = self.cell_range(fine.cell_index(cx, cy));
+        let (x_first, x_count) = span(0);
+        let (y_first, y_count) = span(1);
+        let (nx, ny) = (fine.n[0] as isize, fine.n[1] as isize);
+        for k in 0..y_count as isize {
+            let cy = ((y_first + k) % ny) as usize;
+            // The row's cells are contiguous in memory: one range, or two where it wraps.
+            let end = x_first + x_count as isize;
+            let first_run = (x_first as usize, (end.min(nx) - 1) as usize);
+            let runs = [first_run, (0, (end - nx - 1).max(-1) as usize)];
+            let wrapped = end > nx;
+            for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
+                let range = self.cell_start[fine.cell_index(c0, cy)] as usize
+                    ..self.cell_start[fine.cell_index(c1, cy) + 1] as usize;
                 self.test(a, range, out, max_overlap);
             }
         }

@@ -138,7 +138,11 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
     let size = [max[0] - min[0], max[1] - min[1]];
     let reach = 2.0 * r_hi * s;
     let n = [0, 1].map(|a| ((size[a] / reach).floor() as usize).clamp(1, 4096));
-    let mut cells: Vec<Vec<usize>> = vec![Vec::new(); n[0] * n[1]];
+    // Cell lists as linked lists through two flat arrays (a head per cell, a next per disc):
+    // a million discs cost 8 MB here, not a Vec per cell.
+    const NONE: u32 = u32::MAX;
+    let mut head = vec![NONE; n[0] * n[1]];
+    let mut next: Vec<u32> = Vec::with_capacity(spec.count);
     let cell_of = |p: [f64; 2]| -> [usize; 2] {
         [0, 1].map(|a| (((p[a] - min[a]) / size[a] * n[a] as f64) as usize).min(n[a] - 1))
     };
@@ -180,8 +184,10 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
                     } else {
                         (cx, cy)
                     };
-                    for &j in &cells[cy as usize * n[0] + cx as usize] {
-                        let q: &Particle = &placed[j];
+                    let mut j = head[cy as usize * n[0] + cx as usize];
+                    while j != NONE {
+                        let q: &Particle = &placed[j as usize];
+                        j = next[j as usize];
                         let dxp = min_image(pos[0] - q.position[0], 0);
                         let dyp = min_image(pos[1] - q.position[1], 1);
                         if (dxp * dxp + dyp * dyp).sqrt() <= (r + q.radius) * s {
@@ -199,7 +205,9 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
                 requested: spec.count,
             });
         };
-        cells[c[1] * n[0] + c[0]].push(placed.len());
+        let cell = c[1] * n[0] + c[0];
+        next.push(head[cell]);
+        head[cell] = placed.len() as u32;
         placed.push(Particle::new(pos, [0.0, 0.0], r));
     }
 
