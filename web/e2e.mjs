@@ -46,6 +46,15 @@ try {
     result.resumed = await page.evaluate(() => window.bounce.status());
     await page.evaluate(() => window.bounce.open_builtin("gas"));
     result.hash_100 = await page.evaluate(() => window.bounce.run_to(100));
+  } else if (mode === "fps") {
+    // Frame rate with 20,000 discs (for the record, not an assertion).
+    await page.goto(`${url}/index.html?scenario=gas`);
+    await page.waitForFunction(() => window.bounce !== undefined, null, { timeout: 90000 });
+    const text = `[world]\nmin = [0.0, 0.0]\nmax = [230.0, 230.0]\n[time]\ndt = 0.016666666666666666\nsteps = 100000\n[[gas]]\ncount = 20000\nradius = 0.5\nuniform = 2.0\nseed = 1\n`;
+    await page.evaluate((t) => { window.bounce.open_text("gas-20k", t); window.bounce.set_running(true); }, text);
+    await sleep(6000);
+    result.status = await page.evaluate(() => window.bounce.status());
+    await page.screenshot({ path: screenshot });
   } else {
     await page.goto(`${url}/index.html?scenario=gas&no-webgl`);
     await page.waitForFunction(() => window.bounceFallback !== undefined, null, { timeout: 90000 });
@@ -65,7 +74,9 @@ try {
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
   }
-  result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));
+  if (mode !== "fps") {
+    result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));
+  }
 } catch (e) {
   result.error = String(e);
 }

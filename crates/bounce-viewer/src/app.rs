@@ -376,12 +376,7 @@ impl ViewerApp {
     }
 
     fn panels(&mut self, ui: &mut egui::Ui) {
-        let fps = if self.frame_times.len() > 1 {
-            let total: f64 = self.frame_times.iter().sum();
-            self.frame_times.len() as f64 / total.max(1e-9)
-        } else {
-            0.0
-        };
+        let fps = self.fps();
         egui::Grid::new("numbers").num_columns(2).show(ui, |ui| {
             ui.label("frames / s");
             ui.label(format!("{fps:.1}"));
@@ -659,15 +654,26 @@ impl ViewerApp {
         Ok(())
     }
 
-    /// `step N hash H particles P running B` for tests and the page.
+    /// `step N hash H particles P running B fps F` for tests and the page.
     pub fn status(&self) -> String {
         format!(
-            "step {} hash {:016x} particles {} running {}",
+            "step {} hash {:016x} particles {} running {} fps {:.1}",
             self.world.step_count(),
             self.world.state_hash(),
             self.world.len(),
-            self.running
+            self.running,
+            self.fps()
         )
+    }
+
+    /// Frames per second over the last 60 frames.
+    fn fps(&self) -> f64 {
+        if self.frame_times.len() > 1 {
+            let total: f64 = self.frame_times.iter().sum();
+            self.frame_times.len() as f64 / total.max(1e-9)
+        } else {
+            0.0
+        }
     }
 
     /// Opens a built-in scenario by name.
