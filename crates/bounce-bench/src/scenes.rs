@@ -2,8 +2,8 @@
 //! same discs.
 
 use anyhow::{Result, bail};
-use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, Particle};
+use bounce::Particle;
+use bounce::scene::{self, Speeds};
 
 /// A named scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,30 +64,13 @@ impl SceneKind {
             SceneKind::Pile(_) => ([0.5, 0.5], [0.0, -9.81], 0.7, 4),
             SceneKind::Poly(_) => ([0.1, 2.5], [0.0, 0.0], 1.0, 1),
         };
-        // Mean r² of a uniform radius in [a, b] is (a² + ab + b²) / 3.
-        let [a, b] = radius;
-        let mean_r2 = (a * a + a * b + b * b) / 3.0;
-        let side = (n as f64 * std::f64::consts::PI * mean_r2 / 0.3).sqrt();
-        let config = Config {
-            boundary: Boundary::walls([0.0, 0.0], [side, side]),
-            ..Config::default()
-        };
-        let discs = scene::gas(
-            &Gas {
-                count: n,
-                radius,
-                region: None,
-                speeds: Speeds::Uniform(2.0),
-                drift: [0.0, 0.0],
-                seed: 1,
-            },
-            &config,
-        )
-        .expect("the benchmark gas fits");
+        let (config, discs) = scene::gas_in_walls(n, radius, 0.3, Speeds::Uniform(2.0), 1)
+            .expect("the benchmark gas fits");
+        let (min, max) = config.boundary.bounds().expect("walls");
         Setup {
             discs,
-            min: [0.0, 0.0],
-            max: [side, side],
+            min,
+            max,
             gravity,
             restitution,
             dt: 1.0 / 60.0,

@@ -3,7 +3,6 @@
 mod atomic;
 mod checkpoint;
 mod gsd;
-mod physics;
 mod plots;
 mod render;
 mod run;

@@ -5,7 +5,6 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use bounce::World;
-use bounce::scene::maxwell_boltzmann_pdf;
 use plotters::prelude::*;
 
 /// Where TrueType fonts are looked for (Debian's fonts-dejavu-core first).
@@ -121,44 +120,10 @@ fn histogram<DB: DrawingBackend>(
     world: &World,
     total_mass: f64,
 ) -> Result<()> {
-    let p = world.particles();
-    let speeds: Vec<f64> = p
-        .vx()
-        .iter()
-        .zip(p.vy())
-        .map(|(x, y)| x.hypot(*y))
-        .collect();
-    let kt = crate::physics::temperature(world, total_mass);
-    let masses = crate::physics::masses(world);
-    let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-12) * 1.05;
-    let bins = 40usize;
-    let width = v_max / bins as f64;
-    let mut counts = vec![0usize; bins];
-    for &v in &speeds {
-        counts[((v / width) as usize).min(bins - 1)] += 1;
-    }
-    let n = speeds.len().max(1) as f64;
-    let density: Vec<f64> = counts.iter().map(|&c| c as f64 / (n * width)).collect();
-    // The expected density mixes the Rayleigh curves of every mass present (a sample of up
-    // to 2,000 discs stands in for all).
-    let stride = (masses.len() / 2000).max(1);
-    let sample: Vec<f64> = masses.iter().step_by(stride).copied().collect();
-    let curve = |v: f64| -> f64 {
-        if kt <= 0.0 {
-            return 0.0;
-        }
-        sample
-            .iter()
-            .map(|&m| maxwell_boltzmann_pdf(v, kt, m))
-            .sum::<f64>()
-            / sample.len().max(1) as f64
-    };
-    let curve_points: Vec<(f64, f64)> = (0..=200)
-        .map(|k| {
-            let v = v_max * k as f64 / 200.0;
-            (v, curve(v))
-        })
-        .collect();
+    let h = bounce_scenario::analysis::speed_histogram(world, 40, total_mass);
+    let (kt, width, density) = (h.kt, h.width, h.density);
+    let v_max = width * density.len() as f64;
+    let curve_points: Vec<(f64, f64)> = h.curve.iter().map(|&[v, d]| (v, d)).collect();
     let top = density
         .iter()
         .copied()

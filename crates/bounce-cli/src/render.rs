@@ -4,7 +4,8 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use bounce::{Boundary, World};
-use bounce_scenario::{ColorBy, Rgb, ramp};
+use bounce_scenario::palette::Palette;
+use bounce_scenario::{ColorBy, Rgb};
 use tiny_skia::{
     Color, FillRule, FilterQuality, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke,
     Transform,
@@ -14,7 +15,6 @@ use crate::atomic::AtomicFile;
 
 const BACKGROUND: Rgb = [17, 20, 26];
 const BOX_EDGE: Rgb = [90, 96, 110];
-const NO_COLOUR: Rgb = [150, 150, 150];
 /// GIF frames are at most this wide, to keep the file small.
 const GIF_WIDTH: u32 = 480;
 
@@ -24,16 +24,12 @@ pub struct Painter {
     max: [f64; 2],
     width: u32,
     height: u32,
-    colour_by: ColorBy,
-    /// Colour of each particle by id.
-    colours: Vec<Option<Rgb>>,
-    /// Speed that maps to the top of the colour scale (fixed for the run).
-    speed_scale: f64,
-    radius_range: [f64; 2],
+    palette: Palette,
 }
 
 impl Painter {
-    /// A painter for `world`'s box (or `view` for an open world) at `width` pixels.
+    /// A painter for `view` (default: the box, or the particles' extent when open) at `width`
+    /// pixels, colouring with scales fixed from the world as it is now.
     pub fn new(
         world: &World,
         view: Option<([f64; 2], [f64; 2])>,
@@ -52,36 +48,12 @@ impl Painter {
             });
         let aspect = (max[1] - min[1]) / (max[0] - min[0]);
         let height = ((width as f64 * aspect).round() as u32).clamp(16, 8192);
-        let rms = (2.0 * world.stats().kinetic_energy
-            / crate::physics::masses(world)
-                .iter()
-                .sum::<f64>()
-                .max(1e-300))
-        .sqrt();
-        let max_speed = p
-            .vx()
-            .iter()
-            .zip(p.vy())
-            .map(|(x, y)| x.hypot(*y))
-            .fold(0.0, f64::max);
-        let speed_scale = if rms > 0.0 {
-            2.5 * rms
-        } else {
-            max_speed.max(1e-12)
-        };
-        let radius_range = [
-            p.radius().iter().copied().fold(f64::INFINITY, f64::min),
-            p.radius().iter().copied().fold(0.0, f64::max),
-        ];
         Painter {
             min,
             max,
             width,
             height,
-            colour_by,
-            colours,
-            speed_scale,
-            radius_range,
+            palette: Palette::for_world(world, colour_by, colours),
         }
     }
 
@@ -98,21 +70,6 @@ impl Painter {
             ((x - self.min[0]) * sx) as f32,
             ((self.max[1] - y) * sy) as f32,
         )
-    }
-
-    fn colour(&self, id: usize, speed: f64, radius: f64) -> Rgb {
-        match self.colour_by {
-            ColorBy::Speed => ramp(speed / self.speed_scale),
-            ColorBy::Radius => {
-                let [lo, hi] = self.radius_range;
-                ramp(if hi > lo {
-                    (radius - lo) / (hi - lo)
-                } else {
-                    0.5
-                })
-            }
-            ColorBy::Color => self.colours.get(id).copied().flatten().unwrap_or(NO_COLOUR),
-        }
     }
 
     /// Draws the world.
@@ -147,7 +104,7 @@ impl Painter {
             let (x, y) = self.to_pixel(p.x()[i], p.y()[i]);
             let r = (p.radius()[i] * scale) as f32;
             let speed = p.vx()[i].hypot(p.vy()[i]);
-            paint.set_color(rgb(self.colour(
+            paint.set_color(rgb(self.palette.colour(
                 p.ids()[i].0 as usize,
                 speed,
                 p.radius()[i],

@@ -11,11 +11,11 @@ use bounce::World;
 use bounce_scenario::{ColorBy, Scenario};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::checkpoint;
 use crate::gsd::GsdWriter;
 use crate::plots::{self, Sample};
 use crate::render::{GifWriter, Painter, save_png};
 use crate::stats_csv::StatsCsv;
-use crate::{checkpoint, physics};
 
 /// What `bounce run` was asked to do.
 pub struct RunArgs {
@@ -161,7 +161,7 @@ impl Outputs {
         dir: &Path,
     ) -> Result<Self> {
         let spec = scenario.output.clone();
-        let total_mass: f64 = physics::masses(world).iter().sum();
+        let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
         let colour_by = spec.color_by.unwrap_or(if scenario.has_colours() {
             ColorBy::Color
         } else {

@@ -57,7 +57,7 @@ impl StatsCsv {
     /// Writes a row for the world's current state and resets the totals.
     pub fn row(&mut self, world: &World) -> Result<()> {
         let s = world.stats();
-        let temperature = crate::physics::temperature(world, self.total_mass);
+        let temperature = bounce_scenario::analysis::temperature(world, self.total_mass);
         self.writer.write_record([
             world.step_count().to_string(),
             world.time().to_string(),

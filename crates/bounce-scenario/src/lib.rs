@@ -15,8 +15,10 @@ use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUp
 use serde::Deserialize;
 use toml::Spanned;
 
+pub mod analysis;
 pub mod checkpoint;
 mod colour;
+pub mod palette;
 pub use colour::{Rgb, parse_colour, ramp};
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.

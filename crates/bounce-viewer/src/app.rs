@@ -4,7 +4,6 @@ use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
-use bounce::scene::maxwell_boltzmann_pdf;
 use bounce::{MassModel, Particle, RestitutionModel, VelocityUpdate, World};
 use bounce_scenario::{ColorBy, Rgb};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
@@ -432,60 +431,15 @@ impl ViewerApp {
     }
 
     fn speed_histogram(&self) -> (Vec<Bar>, PlotPoints<'static>) {
-        let p = self.world.particles();
-        let n = p.len();
-        if n == 0 {
-            return (Vec::new(), PlotPoints::from(Vec::<[f64; 2]>::new()));
-        }
-        let model = self.world.config().mass_model;
-        let speeds: Vec<f64> = p
-            .vx()
-            .iter()
-            .zip(p.vy())
-            .map(|(x, y)| x.hypot(*y))
-            .collect();
-        let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-9) * 1.05;
-        let bins = 30;
-        let width = v_max / bins as f64;
-        let mut counts = vec![0usize; bins];
-        for &v in &speeds {
-            counts[((v / width) as usize).min(bins - 1)] += 1;
-        }
-        let bars = counts
+        let total_mass: f64 = bounce_scenario::analysis::masses(&self.world).iter().sum();
+        let h = bounce_scenario::analysis::speed_histogram(&self.world, 30, total_mass);
+        let bars = h
+            .density
             .iter()
             .enumerate()
-            .map(|(k, &c)| {
-                Bar::new((k as f64 + 0.5) * width, c as f64 / (n as f64 * width)).width(width)
-            })
+            .map(|(k, &d)| Bar::new((k as f64 + 0.5) * h.width, d).width(h.width))
             .collect();
-        // Temperature from the kinetic energy in the centre-of-mass frame (2D: kT per disc).
-        let masses: Vec<f64> = (0..n)
-            .step_by((n / 2000).max(1))
-            .map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i]))
-            .collect();
-        let total_mass: f64 = (0..n)
-            .map(|i| model.mass(p.radius()[i], p.per_particle_mass()[i]))
-            .sum();
-        let s = self.world.stats();
-        let drift =
-            (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass.max(1e-300));
-        let kt = ((s.kinetic_energy - drift) / n as f64).max(0.0);
-        let curve: Vec<[f64; 2]> = (0..=120)
-            .map(|k| {
-                let v = v_max * k as f64 / 120.0;
-                let density = if kt > 0.0 {
-                    masses
-                        .iter()
-                        .map(|&m| maxwell_boltzmann_pdf(v, kt, m))
-                        .sum::<f64>()
-                        / masses.len() as f64
-                } else {
-                    0.0
-                };
-                [v, density]
-            })
-            .collect();
-        (bars, PlotPoints::from(curve))
+        (bars, PlotPoints::from(h.curve))
     }
 
     /// The picture and its mouse handling.

@@ -6,12 +6,12 @@
 //! pixels covered, needs no GPU features, and runs the same in a browser.
 
 use bounce::World;
-use bounce_scenario::{ColorBy, Rgb, ramp};
+use bounce_scenario::Rgb;
+pub use bounce_scenario::palette::Palette;
 
 /// Background of the picture.
 pub const BACKGROUND: Rgb = [17, 20, 26];
 const BOX_EDGE: Rgb = [90, 96, 110];
-const NO_COLOUR: Rgb = [150, 150, 150];
 
 /// Which part of the world is shown: a centre and a scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,69 +61,6 @@ impl View {
         let moved = self.to_world(px, width, height);
         self.centre[0] += anchor[0] - moved[0];
         self.centre[1] += anchor[1] - moved[1];
-    }
-}
-
-/// How discs are coloured.
-pub struct Palette {
-    /// The rule.
-    pub colour_by: ColorBy,
-    /// Scenario colours by particle id.
-    pub colours: Vec<Option<Rgb>>,
-    /// Speed at the top of the ramp.
-    pub speed_scale: f64,
-    /// Radii at the ends of the ramp.
-    pub radius_range: [f64; 2],
-}
-
-impl Palette {
-    /// A palette whose scales come from the world as it is now.
-    pub fn for_world(world: &World, colour_by: ColorBy, colours: Vec<Option<Rgb>>) -> Self {
-        let p = world.particles();
-        let n = p.len().max(1) as f64;
-        let mean_v2 = p
-            .vx()
-            .iter()
-            .zip(p.vy())
-            .map(|(x, y)| x * x + y * y)
-            .sum::<f64>()
-            / n;
-        let max_speed = p
-            .vx()
-            .iter()
-            .zip(p.vy())
-            .map(|(x, y)| x.hypot(*y))
-            .fold(0.0, f64::max);
-        let speed_scale = if mean_v2 > 0.0 {
-            2.5 * mean_v2.sqrt()
-        } else {
-            max_speed.max(1.0)
-        };
-        let radius_range = [
-            p.radius().iter().copied().fold(f64::INFINITY, f64::min),
-            p.radius().iter().copied().fold(0.0, f64::max),
-        ];
-        Palette {
-            colour_by,
-            colours,
-            speed_scale,
-            radius_range,
-        }
-    }
-
-    fn colour(&self, id: usize, speed: f64, radius: f64) -> Rgb {
-        match self.colour_by {
-            ColorBy::Speed => ramp(speed / self.speed_scale),
-            ColorBy::Radius => {
-                let [lo, hi] = self.radius_range;
-                ramp(if hi > lo {
-                    (radius - lo) / (hi - lo)
-                } else {
-                    0.5
-                })
-            }
-            ColorBy::Color => self.colours.get(id).copied().flatten().unwrap_or(NO_COLOUR),
-        }
     }
 }
 
@@ -215,6 +152,7 @@ impl Raster {
 mod tests {
     use super::*;
     use bounce::{Boundary, Config, Particle};
+    use bounce_scenario::ColorBy;
 
     #[test]
     fn view_round_trips_and_zooms_about_the_cursor() {

@@ -1,8 +1,8 @@
 //! `cargo bench -p bounce`: milliseconds per step of the gas scene (radius 0.5, packing
 //! fraction 0.3, walls, e = 1, velocities uniform in [-2, 2]², dt = 1/60) on one thread.
 
-use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, World};
+use bounce::World;
+use bounce::scene::{self, Speeds};
 
 fn main() {
     divan::main();
@@ -10,23 +10,8 @@ fn main() {
 
 /// The benchmark gas of `count` discs, settled for a few steps.
 fn gas(count: usize) -> World {
-    let side = (count as f64 * std::f64::consts::PI * 0.25 / 0.3).sqrt();
-    let config = Config {
-        boundary: Boundary::walls([0.0, 0.0], [side, side]),
-        ..Config::default()
-    };
-    let discs = scene::gas(
-        &Gas {
-            count,
-            radius: [0.5, 0.5],
-            region: None,
-            speeds: Speeds::Uniform(2.0),
-            drift: [0.0, 0.0],
-            seed: 1,
-        },
-        &config,
-    )
-    .expect("gas fits");
+    let (config, discs) =
+        scene::gas_in_walls(count, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1).expect("gas fits");
     let mut world = World::new(config).expect("valid config");
     world.add_particles(discs).expect("valid discs");
     for _ in 0..5 {

@@ -2,8 +2,8 @@
 //!
 //! `cargo run --release --example gas [COUNT] [STEPS]` (defaults: 10,000 discs, 600 steps).
 
-use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, World};
+use bounce::World;
+use bounce::scene::{self, Speeds};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -15,23 +15,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steps: u64 = args.next().map(|a| a.parse()).transpose()?.unwrap_or(600);
     let threads: usize = std::thread::available_parallelism().map_or(1, |n| n.get());
 
-    // Radius 0.5 at packing fraction 0.3.
-    let side = (count as f64 * std::f64::consts::PI * 0.25 / 0.3).sqrt();
-    let config = Config {
-        boundary: Boundary::walls([0.0, 0.0], [side, side]),
-        ..Config::default()
-    };
-    let discs = scene::gas(
-        &Gas {
-            count,
-            radius: [0.5, 0.5],
-            region: None,
-            speeds: Speeds::Fixed(1.0),
-            drift: [0.0, 0.0],
-            seed: 1,
-        },
-        &config,
-    )?;
+    // Radius 0.5 at packing fraction 0.3, all at speed 1 in random directions.
+    let (config, discs) = scene::gas_in_walls(count, [0.5, 0.5], 0.3, Speeds::Fixed(1.0), 1)?;
+    let side = config.boundary.bounds().map_or(0.0, |(_, max)| max[0]);
     let mut world = World::new(config)?;
     world
         .add_particles(discs)

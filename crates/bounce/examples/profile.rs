@@ -1,7 +1,7 @@
 //! Per-stage time of the gas scene: `cargo run --release --example profile [COUNT] [THREADS]`.
 
-use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, StepProfile, World};
+use bounce::scene::{self, Speeds};
+use bounce::{StepProfile, World};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -11,22 +11,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?
         .unwrap_or(1_000_000);
     let threads: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(1);
-    let side = (count as f64 * std::f64::consts::PI * 0.25 / 0.3).sqrt();
-    let config = Config {
-        boundary: Boundary::walls([0.0, 0.0], [side, side]),
-        ..Config::default()
-    };
-    let gas = Gas {
-        count,
-        radius: [0.5, 0.5],
-        region: None,
-        speeds: Speeds::Uniform(2.0),
-        drift: [0.0, 0.0],
-        seed: 1,
-    };
-    let mut world = World::new(config.clone())?;
+    let (config, discs) = scene::gas_in_walls(count, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1)?;
+    let mut world = World::new(config)?;
     world
-        .add_particles(scene::gas(&gas, &config)?)
+        .add_particles(discs)
         .map_err(|(i, e)| format!("{i}: {e}"))?;
     world.set_threads(threads)?;
     let steps = 20;

@@ -232,6 +232,40 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
     Ok(placed)
 }
 
+/// A square walled box sized so `count` discs with radii uniform in `radius` fill
+/// `packing` of its area, and a gas in it: the benchmark scenes' setup.
+pub fn gas_in_walls(
+    count: usize,
+    radius: [f64; 2],
+    packing: f64,
+    speeds: Speeds,
+    seed: u64,
+) -> Result<(Config, Vec<Particle>), SceneError> {
+    if !(packing > 0.0 && packing < 1.0) {
+        return Err(invalid("packing", packing.to_string(), "in (0, 1)"));
+    }
+    // Mean r² of a radius uniform in [a, b] is (a² + ab + b²) / 3.
+    let [a, b] = radius;
+    let mean_r2 = (a * a + a * b + b * b) / 3.0;
+    let side = (count as f64 * std::f64::consts::PI * mean_r2 / packing).sqrt();
+    let config = Config {
+        boundary: Boundary::walls([0.0, 0.0], [side, side]),
+        ..Config::default()
+    };
+    let discs = gas(
+        &Gas {
+            count,
+            radius,
+            region: None,
+            speeds,
+            drift: [0.0, 0.0],
+            seed,
+        },
+        &config,
+    )?;
+    Ok((config, discs))
+}
+
 /// Two independent standard normal numbers (Box–Muller).
 fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
     // 1 - u is in (0, 1], so the logarithm is finite.

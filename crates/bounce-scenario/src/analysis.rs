@@ -1,0 +1,117 @@
+//! Quantities the CLI's plots and the viewer's panels both show: masses, temperature, and
+//! the speed histogram against the 2D Maxwell–Boltzmann distribution.
+
+use bounce::World;
+use bounce::scene::maxwell_boltzmann_pdf;
+
+/// The masses of all discs under the world's mass model, in storage order.
+pub fn masses(world: &World) -> Vec<f64> {
+    let p = world.particles();
+    let model = world.config().mass_model;
+    p.radius()
+        .iter()
+        .zip(p.per_particle_mass())
+        .map(|(&r, &m)| model.mass(r, m))
+        .collect()
+}
+
+/// `kT` from the kinetic energy in the centre-of-mass frame: in 2D each disc carries `kT`.
+/// `total_mass` is the sum of [`masses`] (kept by callers, since masses do not change).
+pub fn temperature(world: &World, total_mass: f64) -> f64 {
+    let n = world.len();
+    if n == 0 || total_mass <= 0.0 {
+        return 0.0;
+    }
+    let s = world.stats();
+    let drift_energy = (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass);
+    ((s.kinetic_energy - drift_energy) / n as f64).max(0.0)
+}
+
+/// The speed distribution now, and what theory expects at the measured temperature.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpeedHistogram {
+    /// Bin width; bin `k` covers `[k width, (k + 1) width)`.
+    pub width: f64,
+    /// Probability density in each bin (integrates to 1).
+    pub density: Vec<f64>,
+    /// The measured temperature `kT`.
+    pub kt: f64,
+    /// `(speed, density)` points of the 2D Maxwell–Boltzmann distribution at `kt`: the mix
+    /// of the Rayleigh curves of the masses present (a sample of up to 2,000 discs).
+    pub curve: Vec<[f64; 2]>,
+}
+
+/// Histogram of the discs' speeds in `bins` bins, with the theoretical curve.
+pub fn speed_histogram(world: &World, bins: usize, total_mass: f64) -> SpeedHistogram {
+    let p = world.particles();
+    let bins = bins.max(1);
+    let speeds: Vec<f64> = p
+        .vx()
+        .iter()
+        .zip(p.vy())
+        .map(|(x, y)| x.hypot(*y))
+        .collect();
+    let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-12) * 1.05;
+    let width = v_max / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for &v in &speeds {
+        counts[((v / width) as usize).min(bins - 1)] += 1;
+    }
+    let n = speeds.len().max(1) as f64;
+    let density = counts.iter().map(|&c| c as f64 / (n * width)).collect();
+    let kt = temperature(world, total_mass);
+    let all = masses(world);
+    let sample: Vec<f64> = all
+        .iter()
+        .step_by((all.len() / 2000).max(1))
+        .copied()
+        .collect();
+    let curve = (0..=200)
+        .map(|k| {
+            let v = v_max * k as f64 / 200.0;
+            let density = if kt > 0.0 && !sample.is_empty() {
+                sample
+                    .iter()
+                    .map(|&m| maxwell_boltzmann_pdf(v, kt, m))
+                    .sum::<f64>()
+                    / sample.len() as f64
+            } else {
+                0.0
+            };
+            [v, density]
+        })
+        .collect();
+    SpeedHistogram {
+        width,
+        density,
+        kt,
+        curve,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bounce::{Config, Particle};
+
+    #[test]
+    fn histogram_integrates_to_one_and_temperature_ignores_drift() {
+        let mut world = World::new(Config::default()).unwrap();
+        // Two discs of mass 1 (radius 1, seed model) moving together: all drift, kT = 0.
+        world
+            .add_particle(Particle::new([0.0, 0.0], [2.0, 0.0], 1.0))
+            .unwrap();
+        world
+            .add_particle(Particle::new([5.0, 0.0], [2.0, 0.0], 1.0))
+            .unwrap();
+        assert_eq!(temperature(&world, 2.0), 0.0);
+        let h = speed_histogram(&world, 10, 2.0);
+        let total: f64 = h.density.iter().map(|d| d * h.width).sum();
+        assert!((total - 1.0).abs() < 1e-12);
+        // Opposite velocities: no drift, kT = KE / N = (½·4 + ½·4) / 2 = 2.
+        world
+            .set_velocity(bounce::ParticleId(1), [-2.0, 0.0])
+            .unwrap();
+        assert!((temperature(&world, 2.0) - 2.0).abs() < 1e-12);
+    }
+}
