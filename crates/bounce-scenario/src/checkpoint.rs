@@ -4,7 +4,9 @@
 use bounce::World;
 
 const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
-const VERSION: u32 = 1;
+/// Version 2 added the broadphase's reference positions (they decide when the candidate
+/// list is rebuilt, and so the last bits of the energy sums).
+const VERSION: u32 = 2;
 
 /// The bytes of a checkpoint of `world`.
 pub fn encode(world: &World) -> Result<Vec<u8>, String> {
@@ -29,7 +31,8 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<World, String> {
     let version = u32::from_le_bytes(rest[..4].try_into().expect("4 bytes"));
     if version != VERSION {
         return Err(format!(
-            "{name}: checkpoint version {version}, this bounce reads version {VERSION}"
+            "{name}: checkpoint version {version}, this bounce reads version {VERSION} \
+             (re-run the scenario with this bounce to make a new one)"
         ));
     }
     postcard::from_bytes(&rest[4..]).map_err(|e| format!("{name}: corrupt checkpoint: {e}"))

@@ -20,10 +20,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steps = 20;
     let mut sum = StepProfile::default();
     let mut totals = Vec::new();
+    let mut pairs = 0;
+    let mut rebuilds = 0;
+    let mut rebuild_ms = Vec::new();
     for _ in 0..steps {
-        world.step(1.0 / 60.0)?;
+        pairs += world.step(1.0 / 60.0)?.pairs;
         let p = world.profile();
         totals.push(p.total());
+        rebuilds += p.rebuilds;
+        if p.rebuilds > 0 {
+            rebuild_ms.push(format!("{:.1}", p.bin * 1e3));
+        }
         sum.integrate += p.integrate;
         sum.bin += p.bin;
         sum.pairs += p.pairs;
@@ -33,7 +40,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ms = |s: f64| s * 1e3 / steps as f64;
     totals.sort_by(f64::total_cmp);
     println!(
-        "{count} discs, {threads} threads, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
+        "{count} discs, {threads} threads, {} colliding pairs per step, {rebuilds} rebuilds in {steps} steps, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
+        pairs / steps,
         totals[steps / 2] * 1e3,
         ms(sum.integrate),
         ms(sum.bin),
@@ -42,5 +50,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ms(sum.measure),
         ms(sum.total())
     );
+    println!("rebuild ms: {}", rebuild_ms.join(" "));
     Ok(())
 }

@@ -1,10 +1,21 @@
-//! Broadphase: which pairs are within the seed's collision distance, found in O(N).
+//! Broadphase: which pairs may collide, found in O(N) and kept for several steps.
+//!
+//! # Candidates with a skin
+//! A rebuild lists every pair whose distance is within its collision distance plus a *skin*,
+//! and records where each disc was (the *reference* positions). As long as no disc has moved
+//! more than half the skin from its reference, every pair that can collide is still on the
+//! list (two discs closed in by at most one skin together), so a step only tests the listed
+//! candidates; the step's integration pass measures the largest displacement and a rebuild
+//! follows when it reaches the allowance. What collides, and in which order it is resolved,
+//! is decided afterwards from the current state alone (see `contacts`), so when the list is
+//! rebuilt changes nothing but speed.
 //!
 //! # Grids
-//! Discs are binned into uniform grids (cell lists) with no fixed cell capacity: a counting
-//! sort by cell index reorders the particle arrays so each cell is a contiguous run. The cell
-//! side is at least the largest interaction diameter `2 r collision_radius_scale` of the
-//! discs in the grid, so every partner lies in the 3×3 cells around a disc.
+//! Discs are binned into uniform grids (cell lists) with no fixed cell capacity: a stable
+//! counting sort by cell index reorders the particle arrays so each cell is a contiguous run,
+//! and neighbour search walks memory in order. The cell side is at least the largest
+//! interaction diameter `2 r collision_radius_scale` plus the skin, so every candidate lies in
+//! the 3×3 cells around a disc.
 //!
 //! # Polydisperse radii: a hierarchy of grids
 //! One grid sized for the largest disc would put thousands of small discs in a cell when radii
@@ -14,24 +25,22 @@
 //! level through the 3×3 stencil, and discs of finer levels by scanning the finer grid's cells
 //! under its reach. Cost stays proportional to the area actually covered, whatever the mix.
 //!
-//! # Canonical order and blocks
-//! Each pair is *owned* by one cell: the cell of the coarser disc, or for discs of one level,
-//! the cell visited first by the forward half-stencil. Both discs lie in the 3×3 cells around
-//! the owner cell. Each level's cells are tiled into blocks at least two cells wide, coloured
-//! 2×2 (with an even block count across periodic edges). Blocks of one colour are then at
-//! least two cells apart, so their pairs touch disjoint discs and can be resolved at once.
-//! The canonical resolution order is: level (fine to coarse), colour, block (row-major),
-//! cell (row-major), owner disc (by id), partner (in scan order). It depends on the particle
-//! data only, so one thread and eight give the same bits.
+//! # Ownership and blocks
+//! Each candidate pair is listed once, by one cell: the cell of the coarser disc, or for discs
+//! of one level, the cell visited first by the forward half-stencil. Cells are grouped into
+//! blocks of whole rows, about a thousand discs each: the units of parallel work, each one
+//! run of storage, so candidates are listed and later tested in storage order.
 //!
 //! # Open worlds
-//! Cell coordinates are clamped to the grid (wrapped, in a periodic box). Clamping never increases the distance between
-//! two cell coordinates, so partners stay within one cell of each other and the stencil and
-//! block arguments hold. An open world's grid covers the bulk of its discs (around the median
-//! position, capped at a few cells per disc); discs far away pile into edge cells, which
-//! costs time but never misses a pair.
+//! Cell coordinates are clamped to the grid (wrapped, in a periodic box). Clamping never
+//! increases the distance between two cell coordinates, so partners stay within one cell of
+//! each other and the stencil argument holds. An open world's grid covers the bulk of its
+//! discs (around the median position, capped at about one cell per disc); discs far away pile
+//! into edge cells, which costs time but never misses a pair.
 
 use std::ops::Range;
+
+use serde::{Deserialize, Serialize};
 
 use crate::config::{Boundary, Config};
 use crate::parallel::{CHUNK, Executor};
@@ -39,12 +48,18 @@ use crate::particles::{ParticleId, Particles, PermuteScratch};
 
 /// At most this many grid levels (interaction diameters spanning a factor 2^16).
 const MAX_LEVELS: usize = 16;
-/// At most this many blocks along one axis of a level.
-const MAX_BLOCKS_PER_AXIS: usize = 32;
-/// Blocks aim to hold about this many discs: enough work per task, enough tasks per colour.
-const DISCS_PER_BLOCK: f64 = 256.0;
+/// Blocks aim to hold about this many discs: enough work per task, enough tasks.
+const DISCS_PER_BLOCK: f64 = 1024.0;
+/// The skin is at least this fraction of the interaction diameter of the finest level's
+/// largest disc. A wider skin lists more candidates and rebuilds less often.
+const SKIN_FRACTION: f64 = 0.6;
+/// And wide enough for the fastest disc to take this many substeps to use up the allowance.
+const MIN_SUBSTEPS_PER_REBUILD: f64 = 4.0;
+/// A rebuild follows once some disc has moved this fraction of the skin (a little under one
+/// half, so rounding in the distance tests can never matter).
+const ALLOWANCE_FRACTION: f64 = 0.49;
 
-/// A pair of storage indices found within the collision distance, owner first.
+/// A pair of storage indices.
 pub(crate) type Pair = [u32; 2];
 
 /// One level's uniform grid.
@@ -96,39 +111,96 @@ impl LevelGrid {
     }
 }
 
-/// A rectangle of cells of one level whose pairs are found and resolved together.
+/// Cell rows of one level whose candidates are listed together.
 #[derive(Clone, Debug)]
-pub(crate) struct Block {
+struct Block {
     level: usize,
     x: Range<usize>,
     y: Range<usize>,
 }
 
-/// The grids, the blocks and the pairs found in the last substep.
+/// How `bin` sizes the skin.
+#[derive(Clone, Copy, Debug)]
+enum Skin {
+    /// The larger of the size rule and `stride` (the fastest disc's distance per substep)
+    /// times the substeps wanted between rebuilds.
+    Stride(f64),
+    /// This skin.
+    Fixed(f64),
+}
+
+/// Where the discs were when the candidates were listed, and how far they may move before
+/// the list must be rebuilt. Part of a saved world: the rebuild schedule decides the storage
+/// order, and with it the last bits of sums such as the kinetic energy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct Reference {
+    /// Candidates are listed up to the collision distance plus this.
+    skin: f64,
+    /// A bound on the rounding of the stored positions (they are `f32`, to save memory).
+    slack: f64,
+    /// Reference positions in storage order; empty when there are none.
+    x: Vec<f32>,
+    y: Vec<f32>,
+}
+
+impl Reference {
+    /// The reference positions, when they match `count` discs.
+    pub(crate) fn positions(&self, count: usize) -> Option<(&[f32], &[f32])> {
+        (count > 0 && self.x.len() == count).then_some((&self.x, &self.y))
+    }
+
+    /// Whether candidates listed at the reference positions still hold every pair that can
+    /// collide, given the largest squared displacement of any disc since.
+    pub(crate) fn covers(&self, max_displacement2: f64) -> bool {
+        let allowance = ALLOWANCE_FRACTION * self.skin - self.slack;
+        allowance > 0.0 && max_displacement2 < allowance * allowance
+    }
+
+    /// Checks loaded data against the particle count; says what is wrong.
+    pub(crate) fn check(&self, count: usize) -> Result<(), String> {
+        let lengths_ok =
+            self.x.len() == self.y.len() && (self.x.is_empty() || self.x.len() == count);
+        if !lengths_ok {
+            return Err(format!(
+                "reference positions for {} and {} discs, but there are {count}",
+                self.x.len(),
+                self.y.len()
+            ));
+        }
+        let finite = self.x.iter().chain(&self.y).all(|v| v.is_finite());
+        if !(finite
+            && self.skin.is_finite()
+            && self.skin >= 0.0
+            && self.slack.is_finite()
+            && self.slack >= 0.0)
+        {
+            return Err("reference positions, skin or slack are not finite and >= 0".into());
+        }
+        Ok(())
+    }
+}
+
+/// The grids, the blocks and the candidate pairs of the last rebuild.
 #[derive(Debug, Default)]
 pub(crate) struct Broadphase {
     levels: Vec<LevelGrid>,
     /// Global cell `c` holds storage indices `cell_start[c]..cell_start[c + 1]`.
     cell_start: Vec<u32>,
     blocks: Vec<Block>,
-    /// Ranges of `blocks` that may run at the same time, in canonical order.
-    pub(crate) phases: Vec<Range<usize>>,
-    /// Pairs owned by each block, in canonical order.
-    pub(crate) pairs: Vec<Vec<Pair>>,
-    // Scratch reused between steps.
+    /// Candidate pairs listed by each block.
+    pub(crate) candidates: Vec<Vec<Pair>>,
+    pub(crate) reference: Reference,
+    /// Whether `candidates` were listed for `reference` (not so after loading a world).
+    listed: bool,
+    /// The largest radius at the last rebuild.
+    max_radius: f64,
+    // Scratch reused between rebuilds.
     key: Vec<u32>,
     order: Vec<u32>,
     /// Per-disc level; empty when all discs share level 0.
     level_of: Vec<u8>,
     f64_scratch: Vec<f64>,
     scratch: PermuteScratch,
-}
-
-/// What pair detection measured.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Detection {
-    pub pairs: usize,
-    pub max_overlap: f64,
 }
 
 /// The minimum-image helper: box sizes, or `None` when not periodic.
@@ -169,9 +241,13 @@ impl Periodicity {
 /// `floor(v)` as an integer, saturating (NaN gives 0). Inlined, unlike `f64::floor` on
 /// baseline x86-64, which calls libm.
 #[inline(always)]
-fn floor_to_isize(v: f64) -> isize {
+pub(crate) fn floor_to_isize(v: f64) -> isize {
     let t = v as isize;
-    if (t as f64) > v { t - 1 } else { t }
+    if (t as f64) > v {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
 }
 
 /// The level of a disc of interaction diameter `d` given the smallest one, `d_min`.
@@ -199,51 +275,149 @@ fn cells_along(width: f64, min_cell: f64, wrap: bool) -> usize {
     if wrap && n < 3 { 1 } else { n }
 }
 
-/// Splits `n` cells into blocks of about `side` cells, at least 2 each; an even count (or 1)
-/// so the 2-colouring also holds across a periodic edge.
-fn block_splits(n: usize, side: usize) -> Vec<usize> {
-    let mut nb = (n / side.max(2)).clamp(1, MAX_BLOCKS_PER_AXIS);
-    if nb >= 2 {
-        nb -= nb % 2;
-    }
-    (0..=nb).map(|b| b * n / nb).collect()
-}
-
 impl Broadphase {
-    /// Bins the discs into the level grids and reorders the particle arrays into canonical
-    /// cell order (by level, cell, then id).
-    pub(crate) fn rebuild(&mut self, p: &mut Particles, config: &Config, exec: &Executor) {
+    /// The largest radius at the last rebuild: what the contact order's grid is sized for.
+    pub(crate) fn max_radius(&self) -> f64 {
+        self.max_radius
+    }
+
+    /// Forgets the candidates and the reference: the next [`Broadphase::update`] rebuilds.
+    /// Called whenever discs or the configuration change outside the step.
+    pub(crate) fn invalidate(&mut self) {
+        self.reference = Reference::default();
+        self.listed = false;
+    }
+
+    /// Makes the candidates cover the current positions, given the largest squared
+    /// displacement since the reference (infinite when unknown) and the longest distance a
+    /// disc moved in the last substep (to size the skin). Returns whether the storage order
+    /// changed.
+    pub(crate) fn update(
+        &mut self,
+        p: &mut Particles,
+        config: &Config,
+        exec: &Executor,
+        max_displacement2: f64,
+        stride: f64,
+    ) -> bool {
+        if self.reference.positions(p.len()).is_some() && self.reference.covers(max_displacement2) {
+            if !self.listed {
+                // A loaded world: list candidates for its reference positions, keeping the
+                // storage order it was saved in.
+                self.list_at_reference(p, config, exec);
+            }
+            false
+        } else {
+            self.rebuild(p, config, exec, stride);
+            true
+        }
+    }
+
+    /// The largest squared displacement of any disc from its reference position (infinite
+    /// when there is no reference).
+    pub(crate) fn max_displacement2(&self, p: &Particles, config: &Config) -> f64 {
+        let Some((rx, ry)) = self.reference.positions(p.len()) else {
+            return f64::INFINITY;
+        };
+        let periodicity = Periodicity::of(config);
+        (0..p.len()).fold(0.0, |max, i| {
+            let [dx, dy] = periodicity.diff(p.x[i], p.y[i], rx[i] as f64, ry[i] as f64);
+            f64::max(max, dx * dx + dy * dy)
+        })
+    }
+
+    /// Bins the discs, reorders the particle arrays into cell order, lists the candidates and
+    /// takes the current positions as the new reference. `stride` is how far the fastest
+    /// disc moves per substep.
+    pub(crate) fn rebuild(
+        &mut self,
+        p: &mut Particles,
+        config: &Config,
+        exec: &Executor,
+        stride: f64,
+    ) {
         let count = p.len();
+        let skin = self.bin(&p.x, &p.y, &p.radius, config, Skin::Stride(stride), exec);
+        p.permute(&self.order, &mut self.scratch, exec);
+        self.list_candidates(&p.x, &p.y, &p.radius, config, skin, exec);
+        let slack =
+            p.x.iter().chain(&p.y).fold(0.0f64, |m, v| m.max(v.abs())) * (f32::EPSILON as f64);
+        self.reference.skin = skin;
+        self.reference.slack = slack;
+        self.reference.x.clear();
+        self.reference.x.extend(p.x.iter().map(|&v| v as f32));
+        self.reference.y.clear();
+        self.reference.y.extend(p.y.iter().map(|&v| v as f32));
+        if count == 0 || !self.reference.covers(0.0) {
+            // Coordinates so large that f32 cannot place them within the skin: no reference,
+            // so every step rebuilds.
+            self.reference = Reference::default();
+        }
+        self.listed = true;
+    }
+
+    /// Lists candidates for the stored reference positions without reordering storage: bins a
+    /// sorted copy of the reference positions and maps the pairs back.
+    fn list_at_reference(&mut self, p: &Particles, config: &Config, exec: &Executor) {
+        let rx: Vec<f64> = self.reference.x.iter().map(|&v| v as f64).collect();
+        let ry: Vec<f64> = self.reference.y.iter().map(|&v| v as f64).collect();
+        // The stored positions are within `slack` of the true ones, twice over.
+        let margin = self.reference.skin + 2.0 * self.reference.slack;
+        self.bin(&rx, &ry, &p.radius, config, Skin::Fixed(margin), exec);
+        let gather =
+            |v: &[f64]| -> Vec<f64> { self.order.iter().map(|&i| v[i as usize]).collect() };
+        let (sx, sy, sr) = (gather(&rx), gather(&ry), gather(&p.radius));
+        self.list_candidates(&sx, &sy, &sr, config, margin, exec);
+        let order = &self.order;
+        for pairs in &mut self.candidates {
+            for pair in pairs.iter_mut() {
+                *pair = pair.map(|k| order[k as usize]);
+            }
+        }
+        self.listed = true;
+    }
+
+    /// Levels, grids, the stable counting sort into `order` (new index `k` holds old index
+    /// `order[k]`) and the blocks, for discs at `x`, `y`, with cells sized for `skin`.
+    /// Returns the skin.
+    fn bin(
+        &mut self,
+        x: &[f64],
+        y: &[f64],
+        radius: &[f64],
+        config: &Config,
+        skin: Skin,
+        exec: &Executor,
+    ) -> f64 {
+        let count = radius.len();
         self.levels.clear();
         self.blocks.clear();
-        self.phases.clear();
+        self.order.clear();
+        self.cell_start.clear();
+        self.cell_start.push(0);
+        self.max_radius = 0.0;
         if count == 0 {
-            self.cell_start.clear();
-            self.cell_start.push(0);
-            return;
+            return 0.0;
         }
         let s = config.collision_radius_scale;
 
         // 1. Levels: a band of interaction diameters each. One band is the common case
         // (equal or similar discs): then no per-disc level is stored at all.
-        let (r_min, r_max) = p
-            .radius
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
-                (lo.min(r), hi.max(r))
-            });
+        let (r_min, r_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+            (lo.min(r), hi.max(r))
+        });
+        self.max_radius = r_max;
         let d_min = 2.0 * r_min * s;
         let single_level = level_of(2.0 * r_max * s, d_min) == 0;
         let mut used = Vec::new();
+        self.level_of.clear();
         if single_level {
-            self.level_of.clear();
             used.push((count, r_max));
         } else {
-            self.level_of.clear();
             self.level_of
-                .extend(p.radius.iter().map(|&r| level_of(2.0 * r * s, d_min) as u8));
+                .extend(radius.iter().map(|&r| level_of(2.0 * r * s, d_min) as u8));
             let mut stats = [(0usize, 0.0f64); MAX_LEVELS];
-            for (&l, &r) in self.level_of.iter().zip(&p.radius) {
+            for (&l, &r) in self.level_of.iter().zip(radius) {
                 let (n, max_r) = &mut stats[l as usize];
                 *n += 1;
                 *max_r = max_r.max(r);
@@ -260,20 +434,31 @@ impl Broadphase {
                 *l = compact[*l as usize];
             }
         }
+        let skin = match skin {
+            Skin::Fixed(skin) => skin,
+            Skin::Stride(stride) => {
+                let by_motion = MIN_SUBSTEPS_PER_REBUILD * stride / ALLOWANCE_FRACTION;
+                let skin = f64::max(SKIN_FRACTION * 2.0 * used[0].1 * s, by_motion);
+                // Never wider than the largest interaction diameter: cells stay about
+                // disc-sized.
+                skin.min(2.0 * r_max * s)
+            }
+        };
 
         // 2. One grid per level.
         let mut cell_offset = 0;
         for (level, &(n_level, max_r)) in used.iter().enumerate() {
-            let grid = self.level_grid(p, config, level, n_level, max_r, cell_offset);
+            let grid = self.level_grid([x, y], config, skin, level, n_level, max_r, cell_offset);
             cell_offset += grid.n[0] * grid.n[1];
             self.levels.push(grid);
         }
         let total_cells = cell_offset;
 
-        // 3. Counting sort by global cell index.
+        // 3. Stable counting sort by global cell index. Storage is in cell order from the
+        // last rebuild except for discs that changed cell, so this walks memory in order.
         self.key.resize(count, 0);
         {
-            let (levels, level_of, p) = (&self.levels, &self.level_of, &*p);
+            let (levels, level_of) = (&self.levels, &self.level_of);
             let mut chunks: Vec<(usize, &mut [u32])> =
                 self.key.chunks_mut(CHUNK).enumerate().collect();
             exec.for_each_mut(&mut chunks, |_, (c, keys)| {
@@ -285,12 +470,11 @@ impl Broadphase {
                     } else {
                         &levels[level_of[i] as usize]
                     };
-                    let (cx, cy) = (g.coord(p.x[i], 0), g.coord(p.y[i], 1));
+                    let (cx, cy) = (g.coord(x[i], 0), g.coord(y[i], 1));
                     *key = g.cell_index(cx, cy) as u32;
                 }
             });
         }
-        self.cell_start.clear();
         self.cell_start.resize(total_cells + 1, 0);
         for &k in &self.key {
             self.cell_start[k as usize + 1] += 1;
@@ -311,55 +495,38 @@ impl Broadphase {
             next.copy_within(0..total_cells, 1);
             next[0] = 0;
         }
-        // Within a cell, order by id, so the canonical order does not depend on storage order.
-        // Storage is already in this order from the last step except for discs that changed
-        // cell, so an insertion sort does almost no work.
-        for c in 0..total_cells {
-            let (lo, hi) = (self.cell_start[c] as usize, self.cell_start[c + 1] as usize);
-            if hi - lo > 1 {
-                insertion_sort_by_id(&mut self.order[lo..hi], &p.id);
-            }
-        }
-        p.permute(&self.order, &mut self.scratch, exec);
 
-        // 4. Blocks and phases.
+        // 4. Blocks: strips of whole cell rows, so a block's discs are one run of storage
+        // and its candidates come out in storage order.
         for (level, g) in self.levels.iter().enumerate() {
-            let cells = (g.n[0] * g.n[1]) as f64;
-            let n_level = used[level].0 as f64;
-            let side = (DISCS_PER_BLOCK * cells / n_level).sqrt().ceil() as usize;
-            let xs = block_splits(g.n[0], side);
-            let ys = block_splits(g.n[1], side);
-            for colour in 0..4 {
-                let start = self.blocks.len();
-                for by in (colour / 2..ys.len() - 1).step_by(2) {
-                    for bx in (colour % 2..xs.len() - 1).step_by(2) {
-                        self.blocks.push(Block {
-                            level,
-                            x: xs[bx]..xs[bx + 1],
-                            y: ys[by]..ys[by + 1],
-                        });
-                    }
-                }
-                if self.blocks.len() > start {
-                    self.phases.push(start..self.blocks.len());
-                }
+            let per_row = used[level].0 as f64 / g.n[1] as f64;
+            let rows = (DISCS_PER_BLOCK / per_row).ceil().max(1.0) as usize;
+            for y0 in (0..g.n[1]).step_by(rows) {
+                self.blocks.push(Block {
+                    level,
+                    x: 0..g.n[0],
+                    y: y0..(y0 + rows).min(g.n[1]),
+                });
             }
         }
-        self.pairs.resize_with(self.blocks.len(), Vec::new);
+        self.candidates.resize_with(self.blocks.len(), Vec::new);
+        self.candidates.truncate(self.blocks.len());
+        skin
     }
 
     /// The grid for one level.
+    #[allow(clippy::too_many_arguments)]
     fn level_grid(
         &mut self,
-        p: &Particles,
+        positions: [&[f64]; 2],
         config: &Config,
+        skin: f64,
         level: usize,
         n_level: usize,
         max_radius: f64,
         cell_offset: usize,
     ) -> LevelGrid {
-        let min_cell = 2.0 * max_radius * config.collision_radius_scale;
-        // A few cells per disc at most: enough for an O(1) stencil, bounded memory.
+        let min_cell = 2.0 * max_radius * config.collision_radius_scale + skin;
         // About one cell per disc at most: fewer, fuller cells beat many empty ones (a
         // dense gas at cell side = diameter would leave most cells empty).
         let max_cells = n_level + 64;
@@ -371,8 +538,7 @@ impl Broadphase {
                 let mut origin = [0.0; 2];
                 let mut width = [0.0; 2];
                 for axis in 0..2 {
-                    let coords = if axis == 0 { &p.x } else { &p.y };
-                    let (lo, hi, median) = self.spread(coords, level);
+                    let (lo, hi, median) = self.spread(positions[axis], level);
                     // The bulk around the median; outliers fall into the edge cells.
                     let lo = lo.max(median - side / 2.0);
                     let hi = hi.min(median + side / 2.0);
@@ -449,70 +615,45 @@ impl Broadphase {
         (lo, hi, median)
     }
 
-    /// Finds every pair within the collision distance into the per-block lists.
-    pub(crate) fn find_pairs(
+    /// Lists, per block, every pair within its collision distance plus `margin`, for discs
+    /// at `x`, `y` already in the cell order of the last `bin`.
+    fn list_candidates(
         &mut self,
-        p: &Particles,
+        x: &[f64],
+        y: &[f64],
+        radius: &[f64],
         config: &Config,
+        margin: f64,
         exec: &Executor,
-    ) -> Detection {
+    ) {
         let ctx = Context {
-            p,
+            x,
+            y,
+            radius,
             levels: &self.levels,
             cell_start: &self.cell_start,
             scale: config.collision_radius_scale,
+            margin,
             periodicity: Periodicity::of(config),
         };
         let blocks = &self.blocks;
-        let mut overlaps = vec![0.0f64; blocks.len()];
-        let mut work: Vec<(&mut Vec<Pair>, &mut f64)> =
-            self.pairs.iter_mut().zip(overlaps.iter_mut()).collect();
-        exec.for_each_mut(&mut work, |b, (pairs, overlap)| {
+        exec.for_each_mut(&mut self.candidates, |b, pairs| {
             pairs.clear();
-            **overlap = ctx.block_pairs(&blocks[b], pairs);
+            ctx.block_pairs(&blocks[b], pairs);
         });
-        Detection {
-            pairs: self.pairs.iter().map(Vec::len).sum(),
-            max_overlap: overlaps.into_iter().fold(0.0, f64::max),
-        }
-    }
-
-    /// The pairs found by the last [`Broadphase::find_pairs`], as sorted id pairs.
-    pub(crate) fn pair_ids(&self, p: &Particles) -> Vec<(ParticleId, ParticleId)> {
-        let mut out: Vec<_> = self
-            .pairs
-            .iter()
-            .flatten()
-            .map(|&[a, b]| ordered(p.id[a as usize], p.id[b as usize]))
-            .collect();
-        out.sort_unstable();
-        out
     }
 }
 
-/// Sorts storage indices by particle id; linear when already sorted.
-fn insertion_sort_by_id(run: &mut [u32], id: &[ParticleId]) {
-    for k in 1..run.len() {
-        let v = run[k];
-        let mut j = k;
-        while j > 0 && id[run[j - 1] as usize] > id[v as usize] {
-            run[j] = run[j - 1];
-            j -= 1;
-        }
-        run[j] = v;
-    }
-}
-
-fn ordered(a: ParticleId, b: ParticleId) -> (ParticleId, ParticleId) {
-    if a < b { (a, b) } else { (b, a) }
-}
-
-/// Read-only view the detection of one block needs.
+/// Read-only view the candidate search of one block needs.
 struct Context<'a> {
-    p: &'a Particles,
+    x: &'a [f64],
+    y: &'a [f64],
+    radius: &'a [f64],
     levels: &'a [LevelGrid],
     cell_start: &'a [u32],
     scale: f64,
+    /// Added to each pair's collision distance: the skin.
+    margin: f64,
     periodicity: Periodicity,
 }
 
@@ -522,38 +663,39 @@ impl Context<'_> {
         self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
     }
 
-    /// Tests `a` against each disc of `others`, recording hits and the largest overlap.
+    /// Lists `a` with each disc of `others` within the candidate distance.
     #[inline(always)]
-    fn test(&self, a: usize, others: Range<usize>, out: &mut Vec<Pair>, max_overlap: &mut f64) {
-        let p = self.p;
-        let (xa, ya, ra) = (p.x[a], p.y[a], p.radius[a]);
+    fn test(&self, a: usize, others: Range<usize>, out: &mut Vec<Pair>) {
+        let (xa, ya, ra) = (self.x[a], self.y[a], self.radius[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
         let (xs, ys, rs) = (
-            &p.x[others.clone()],
-            &p.y[others.clone()],
-            &p.radius[others],
+            &self.x[others.clone()],
+            &self.y[others.clone()],
+            &self.radius[others],
         );
+        // About one test in four is a candidate, so a branch on it would mispredict often:
+        // every pair is written to the spare capacity and the length only advances on a hit.
+        out.reserve(xs.len());
+        let mut len = out.len();
+        let spare = out.spare_capacity_mut();
+        let mut written = 0;
         for (k, ((&xb, &yb), &rb)) in xs.iter().zip(ys).zip(rs).enumerate() {
             let [dx, dy] = self.periodicity.diff(xa, ya, xb, yb);
-            let d2 = dx * dx + dy * dy;
-            let reach = (ra + rb) * self.scale;
-            // Cheap squared early-out with a margin, then the seed's exact test on the
-            // distance itself (so rounding matches `collision::is_colliding`).
-            if d2 <= reach * reach * (1.0 + 1e-12) {
-                let distance = d2.sqrt();
-                if distance <= reach {
-                    out.push([a as u32, (start + k) as u32]);
-                    *max_overlap = max_overlap.max(reach - distance);
-                }
-            }
+            let cut = (ra + rb) * self.scale + self.margin;
+            let hit = dx * dx + dy * dy <= cut * cut;
+            // `written <= k < xs.len()`, within the reserved spare capacity.
+            spare[written].write([a as u32, (start + k) as u32]);
+            written += hit as usize;
         }
+        len += written;
+        // SAFETY: the first `written` spare slots were initialised above.
+        unsafe { out.set_len(len) };
     }
 
-    /// All pairs owned by the cells of `block`, in canonical order.
-    fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) -> f64 {
+    /// All candidates listed by the cells of `block`.
+    fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) {
         let g = &self.levels[block.level];
-        let mut max_overlap = 0.0;
         let finer = &self.levels[..block.level];
         for cy in block.y.clone() {
             for cx in block.x.clone() {
@@ -581,35 +723,30 @@ impl Context<'_> {
                         }
                     }
                 }
-                let ranges = runs[..count].iter().map(|&(first, last)| {
-                    self.cell_start[first] as usize..self.cell_start[last + 1] as usize
-                });
-                let mut ranges_buf = [0..0, 0..0, 0..0, 0..0, 0..0];
-                for (slot, range) in ranges_buf.iter_mut().zip(ranges) {
-                    *slot = range;
+                let mut ranges = [0..0, 0..0, 0..0, 0..0, 0..0];
+                for (slot, &(first, last)) in ranges.iter_mut().zip(&runs[..count]) {
+                    *slot = self.cell_start[first] as usize..self.cell_start[last + 1] as usize;
                 }
-                let first_end = ranges_buf[0].end;
+                let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test(a, a + 1..first_end, out, &mut max_overlap);
-                    for range in &ranges_buf[1..count] {
-                        self.test(a, range.clone(), out, &mut max_overlap);
+                    self.test(a, a + 1..first_end, out);
+                    for range in &ranges[1..count] {
+                        self.test(a, range.clone(), out);
                     }
                     // Finer levels: every cell under this disc's reach.
                     for fine in finer {
-                        self.scan_finer(a, fine, out, &mut max_overlap);
+                        self.scan_finer(a, fine, out);
                     }
                 }
             }
         }
-        max_overlap
     }
 
-    /// Tests disc `a` against the discs of a finer level's grid within its reach.
-    fn scan_finer(&self, a: usize, fine: &LevelGrid, out: &mut Vec<Pair>, max_overlap: &mut f64) {
-        let p = self.p;
-        let reach = (p.radius[a] + fine.max_radius) * self.scale;
-        let pos = [p.x[a], p.y[a]];
+    /// Lists disc `a` with the discs of a finer level's grid within its reach.
+    fn scan_finer(&self, a: usize, fine: &LevelGrid, out: &mut Vec<Pair>) {
+        let reach = (self.radius[a] + fine.max_radius) * self.scale + self.margin;
+        let pos = [self.x[a], self.y[a]];
         // The cells under the reach along one axis: a first cell and a count (wrapping in a
         // periodic grid).
         let span = |axis: usize| -> (isize, usize) {
@@ -643,10 +780,14 @@ impl Context<'_> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[fine.cell_index(c0, cy)] as usize
                     ..self.cell_start[fine.cell_index(c1, cy) + 1] as usize;
-                self.test(a, range, out, max_overlap);
+                self.test(a, range, out);
             }
         }
     }
+}
+
+pub(crate) fn ordered(a: ParticleId, b: ParticleId) -> (ParticleId, ParticleId) {
+    if a < b { (a, b) } else { (b, a) }
 }
 
 /// Every pair within the collision distance by testing all N(N-1)/2 pairs: the oracle the
@@ -694,19 +835,23 @@ mod tests {
     }
 
     #[test]
-    fn blocks_are_even_in_number_and_at_least_two_cells_wide() {
-        for n in 1..200 {
-            for side in [1, 2, 3, 7, 50] {
-                let s = block_splits(n, side);
-                let nb = s.len() - 1;
-                assert!(
-                    nb == 1 || nb.is_multiple_of(2),
-                    "n {n} side {side}: {nb} blocks"
-                );
-                assert!(s.windows(2).all(|w| nb == 1 || w[1] - w[0] >= 2));
-                assert_eq!((s[0], s[nb]), (0, n));
+    fn a_reference_covers_less_than_half_the_skin() {
+        let r = Reference {
+            skin: 1.0,
+            slack: 0.0,
+            x: vec![0.0],
+            y: vec![0.0],
+        };
+        assert!(r.covers(0.0) && r.covers(0.48 * 0.48));
+        assert!(!r.covers(0.5 * 0.5) && !r.covers(f64::INFINITY));
+        assert!(
+            !Reference {
+                slack: 0.5,
+                ..r.clone()
             }
-        }
+            .covers(0.0)
+        );
+        assert!(r.positions(1).is_some() && r.positions(2).is_none());
     }
 
     #[test]

@@ -40,6 +40,7 @@ mod boundary;
 pub mod broadphase;
 pub mod collision;
 mod config;
+mod contacts;
 mod integrate;
 mod parallel;
 mod particles;

@@ -60,6 +60,40 @@ impl Executor {
         }
     }
 
+    /// Maps each item (with its index) to a value, in item order; in parallel when there is
+    /// a pool.
+    pub(crate) fn map_mut<T: Send, R: Send>(
+        &self,
+        items: &mut [T],
+        f: impl Fn(usize, &mut T) -> R + Sync,
+    ) -> Vec<R> {
+        match &self.pool {
+            None => items.iter_mut().enumerate().map(|(i, t)| f(i, t)).collect(),
+            Some(pool) => pool.install(|| {
+                items
+                    .par_iter_mut()
+                    .enumerate()
+                    .map(|(i, t)| f(i, t))
+                    .collect()
+            }),
+        }
+    }
+
+    /// Sorts by a key; callers use keys that are unique, so the result is the same whichever
+    /// sort runs.
+    pub(crate) fn sort_unstable_by_key<T: Send, K: Ord>(
+        &self,
+        items: &mut [T],
+        key: impl Fn(&T) -> K + Sync + Send,
+    ) {
+        match &self.pool {
+            Some(pool) if items.len() > 4 * CHUNK => {
+                pool.install(|| items.par_sort_unstable_by_key(key))
+            }
+            _ => items.sort_unstable_by_key(key),
+        }
+    }
+
     /// Calls `f(i)` for each index of `range`; in parallel when there is a pool.
     pub(crate) fn for_each_index(&self, range: Range<usize>, f: impl Fn(usize) + Sync + Send) {
         match &self.pool {
@@ -83,9 +117,9 @@ impl Executor {
 
 /// A mutable slice shared between threads that promise to touch disjoint indices.
 ///
-/// The collision solver needs this: a grid block's pairs write particles of the block and its
-/// one-cell ring, which are not contiguous in memory. The block colouring in `broadphase`
-/// guarantees that blocks resolved at the same time touch disjoint particles.
+/// The collision solver needs this: a block's contacts write particles of the block and its
+/// one-cell ring, which are not contiguous in memory. The block colouring in `contacts`
+/// guarantees that pieces resolved at the same time touch disjoint particles.
 pub(crate) struct SharedSlice<'a, T> {
     ptr: *mut T,
     len: usize,

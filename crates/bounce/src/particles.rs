@@ -258,7 +258,15 @@ impl Particles {
         debug_assert_eq!(order.len(), self.len());
         fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32], out: &mut Vec<T>) {
             out.clear();
-            out.extend(order.iter().map(|&i| v[i as usize]));
+            out.reserve(v.len());
+            for (slot, &i) in out.spare_capacity_mut().iter_mut().zip(order) {
+                // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting
+                // sort), checked in debug builds.
+                debug_assert!((i as usize) < v.len());
+                slot.write(unsafe { *v.get_unchecked(i as usize) });
+            }
+            // SAFETY: `order.len() == v.len()` slots were written above.
+            unsafe { out.set_len(order.len()) };
             std::mem::swap(v, out);
         }
         let [lane_a, lane_b] = &mut scratch.f64;

@@ -1,19 +1,20 @@
-//! Applies the seed's pair resolution to every detected pair, in the canonical order.
+//! Applies the seed's pair resolution to every contact, in the canonical order.
 //!
 //! Pairs are resolved one after another on the current state (Gauss–Seidel style, as the
 //! seed's loop does): a disc pushed by one pair is seen at its new place by the next. The
-//! order is the broadphase's canonical order; blocks within one phase touch disjoint discs,
-//! so a phase runs in parallel and still gives the serial result bit for bit.
+//! order is the canonical order of `contacts`; the pieces of one colour touch disjoint discs,
+//! so they run in parallel and still give the serial result bit for bit.
 
-use crate::broadphase::{Broadphase, Periodicity};
+use crate::broadphase::Periodicity;
 use crate::collision::{Body, ResolveParams, resolve_pair};
 use crate::config::Config;
+use crate::contacts::Contacts;
 use crate::parallel::{Executor, SharedSlice};
 use crate::particles::Particles;
 
-/// Resolves every pair found by the last `find_pairs`, phase by phase.
+/// Resolves every contact found by the last `Contacts::find`, colour by colour.
 pub(crate) fn resolve_all(
-    broadphase: &Broadphase,
+    contacts: &Contacts,
     p: &mut Particles,
     config: &Config,
     exec: &Executor,
@@ -32,14 +33,14 @@ pub(crate) fn resolve_all(
     let y = SharedSlice::new(&mut p.y);
     let vx = SharedSlice::new(&mut p.vx);
     let vy = SharedSlice::new(&mut p.vy);
-    for phase in &broadphase.phases {
-        exec.for_each_index(phase.clone(), |block| {
-            for &[a, b] in &broadphase.pairs[block] {
-                let (a, b) = (a as usize, b as usize);
-                // SAFETY: the pairs of one block touch discs in the block's cells and their
-                // one-cell ring; blocks of one phase are two cells apart (see `broadphase`),
-                // so no other thread touches `a` or `b` now. Indices come from the current
-                // storage, so they are in bounds.
+    for phase in &contacts.phases {
+        exec.for_each_index(phase.clone(), |piece| {
+            for contact in &contacts.list[contacts.pieces[piece].clone()] {
+                let (a, b) = (contact.a as usize, contact.b as usize);
+                // SAFETY: the contacts of one piece touch discs in its blocks' cells and their
+                // one-cell ring; pieces of one colour hold whole blocks of that colour, which
+                // are two cells apart (see `contacts`), so no other thread touches `a` or `b`
+                // now. Indices come from the current storage, so they are in bounds.
                 unsafe {
                     let diff = periodicity.diff(x.get(a), y.get(a), x.get(b), y.get(b));
                     let body = |i: usize| Body {

@@ -28,14 +28,17 @@ pub struct StepStats {
 pub struct StepProfile {
     /// Integration and boundary.
     pub integrate: f64,
-    /// Levels, grids, counting sort and reordering into cell order.
+    /// Broadphase upkeep: checking the candidate list and, when discs have moved too far,
+    /// rebuilding it (levels, grids, counting sort, reordering into cell order, listing).
     pub bin: f64,
-    /// Pair detection.
+    /// Testing the candidates and sorting the contacts into canonical order.
     pub pairs: f64,
     /// Pair resolution.
     pub resolve: f64,
     /// Energy and momentum sums.
     pub measure: f64,
+    /// How many substeps rebuilt the candidate list.
+    pub rebuilds: usize,
 }
 
 impl StepProfile {

@@ -10,8 +10,9 @@ use std::sync::OnceLock;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::broadphase::{self, Broadphase};
+use crate::broadphase::{self, Broadphase, Reference};
 use crate::config::{Config, ConfigError};
+use crate::contacts::Contacts;
 use crate::integrate::integrate;
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles, fits_boundary, fits_size};
@@ -34,8 +35,12 @@ pub struct World {
     stats: StepStats,
     #[serde(skip)]
     profile: StepProfile,
-    #[serde(skip)]
+    /// Saved as its reference positions: when the candidate list is rebuilt decides the
+    /// storage order, and so the last bits of the energy and impulse sums.
+    #[serde(rename = "reference", serialize_with = "serialize_reference")]
     broadphase: Broadphase,
+    #[serde(skip)]
+    contacts: Contacts,
     #[serde(skip)]
     exec: Executor,
     /// `index_of[id]` = storage index, built on demand after each step.
@@ -83,6 +88,7 @@ impl World {
             stats: StepStats::default(),
             profile: StepProfile::default(),
             broadphase: Broadphase::default(),
+            contacts: Contacts::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
         })
@@ -103,6 +109,7 @@ impl World {
                 .map_err(|error| WorldError::Particle { id: p.id[i], error })?;
         }
         self.config = config;
+        self.broadphase.invalidate();
         self.refresh_stats();
         Ok(())
     }
@@ -141,6 +148,7 @@ impl World {
         }
         self.next_id += ids.len() as u32;
         self.index_of = OnceLock::new();
+        self.broadphase.invalidate();
         self.refresh_stats();
         Ok(ids)
     }
@@ -166,24 +174,39 @@ impl World {
         let mut stats = StepStats::default();
         let mut profile = StepProfile::default();
         let mut clock = Stopwatch::start();
+        let mut reordered = false;
         for _ in 0..self.config.substeps {
-            let impulse = integrate(&mut self.particles, &self.config, h, &self.exec);
-            stats.wall_impulse.add(&impulse);
+            let moved = integrate(
+                &mut self.particles,
+                &self.config,
+                h,
+                &self.broadphase.reference,
+                &self.exec,
+            );
+            stats.wall_impulse.add(&moved.impulse);
             profile.integrate += clock.lap();
 
-            self.broadphase
-                .rebuild(&mut self.particles, &self.config, &self.exec);
+            if self.broadphase.update(
+                &mut self.particles,
+                &self.config,
+                &self.exec,
+                moved.max_displacement2,
+                moved.max_stride,
+            ) {
+                reordered = true;
+                profile.rebuilds += 1;
+            }
             profile.bin += clock.lap();
 
-            let found = self
-                .broadphase
-                .find_pairs(&self.particles, &self.config, &self.exec);
+            let found =
+                self.contacts
+                    .find(&self.broadphase, &self.particles, &self.config, &self.exec);
             stats.pairs += found.pairs;
             stats.max_overlap = stats.max_overlap.max(found.max_overlap);
             profile.pairs += clock.lap();
 
             resolve_all(
-                &self.broadphase,
+                &self.contacts,
                 &mut self.particles,
                 &self.config,
                 &self.exec,
@@ -197,7 +220,9 @@ impl World {
         self.profile = profile;
         self.time += dt;
         self.steps += 1;
-        self.index_of = OnceLock::new();
+        if reordered {
+            self.index_of = OnceLock::new();
+        }
         Ok(&self.stats)
     }
 
@@ -320,15 +345,22 @@ impl World {
             .map(|(_, id)| id)
     }
 
-    /// The pairs within the collision distance right now, as sorted id pairs, found by the
-    /// grid. The state is not changed (only the storage order may be).
+    /// The pairs within the collision distance right now, as sorted id pairs, found the way a
+    /// step finds them (the candidate list, rebuilt if discs have moved too far). The state
+    /// is not changed (only the storage order may be).
     pub fn colliding_pairs(&mut self) -> Vec<(ParticleId, ParticleId)> {
-        self.broadphase
-            .rebuild(&mut self.particles, &self.config, &self.exec);
-        self.broadphase
-            .find_pairs(&self.particles, &self.config, &self.exec);
-        self.index_of = OnceLock::new();
-        self.broadphase.pair_ids(&self.particles)
+        let moved = self
+            .broadphase
+            .max_displacement2(&self.particles, &self.config);
+        if self
+            .broadphase
+            .update(&mut self.particles, &self.config, &self.exec, moved, 0.0)
+        {
+            self.index_of = OnceLock::new();
+        }
+        self.contacts
+            .find(&self.broadphase, &self.particles, &self.config, &self.exec);
+        self.contacts.pair_ids(&self.particles)
     }
 
     /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
@@ -374,6 +406,14 @@ struct WorldState {
     time: f64,
     steps: u64,
     stats: StepStats,
+    reference: Reference,
+}
+
+fn serialize_reference<S: serde::Serializer>(
+    broadphase: &Broadphase,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    broadphase.reference.serialize(serializer)
 }
 
 impl TryFrom<WorldState> for World {
@@ -427,11 +467,129 @@ impl TryFrom<WorldState> for World {
                 state.time
             )));
         }
+        state.reference.check(n).map_err(WorldError::Inconsistent)?;
+        world.broadphase.reference = state.reference;
         world.particles = state.particles;
         world.next_id = state.next_id;
         world.time = state.time;
         world.steps = state.steps;
         world.stats = state.stats;
         Ok(world)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Boundary;
+    use crate::scene::{self, Gas, Speeds};
+
+    /// A fast polydisperse gas, so discs cross the skin within a few steps.
+    fn world(boundary: Boundary, threads: usize) -> World {
+        let config = Config {
+            boundary,
+            gravity: [0.0, -1.0],
+            coefficient_of_restitution: 0.95,
+            ..Config::default()
+        };
+        let gas = Gas {
+            count: 600,
+            radius: [0.1, 1.0],
+            region: Some(([5.0, 5.0], [55.0, 55.0])),
+            speeds: Speeds::Uniform(6.0),
+            drift: [0.0, 0.0],
+            seed: 3,
+        };
+        let mut world = World::new(config.clone()).unwrap();
+        world
+            .add_particles(scene::gas(&gas, &config).unwrap())
+            .unwrap();
+        world.set_threads(threads).unwrap();
+        world
+    }
+
+    #[test]
+    fn rebuilding_every_step_changes_nothing() {
+        // Kept candidate lists must never miss a contact: a run that keeps them and a run
+        // that rebuilds before every step end in the same state, bit for bit.
+        for boundary in [
+            Boundary::walls([0.0, 0.0], [60.0, 60.0]),
+            Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
+            Boundary::Open,
+        ] {
+            for threads in [1, 3] {
+                let (mut kept, mut fresh) = (
+                    world(boundary.clone(), threads),
+                    world(boundary.clone(), threads),
+                );
+                let mut rebuilds = 0;
+                for _ in 0..120 {
+                    kept.step(1.0 / 60.0).unwrap();
+                    rebuilds += kept.profile().rebuilds;
+                    fresh.broadphase.invalidate();
+                    fresh.step(1.0 / 60.0).unwrap();
+                    assert_eq!(fresh.profile().rebuilds, 1);
+                }
+                assert_eq!(kept.state_hash(), fresh.state_hash(), "{boundary:?}");
+                assert!(
+                    (5..60).contains(&rebuilds),
+                    "{boundary:?}: {rebuilds} rebuilds in 120 steps"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_world_loaded_between_rebuilds_lists_at_its_reference() {
+        let mut straight = world(Boundary::walls([0.0, 0.0], [60.0, 60.0]), 2);
+        // Step until a step keeps its list: the saved reference is then in use.
+        straight.step(1.0 / 60.0).unwrap();
+        while straight.profile().rebuilds > 0 {
+            straight.step(1.0 / 60.0).unwrap();
+        }
+        let bytes = postcard::to_stdvec(&straight).unwrap();
+        let mut loaded: World = postcard::from_bytes(&bytes).unwrap();
+        assert!(
+            loaded
+                .broadphase
+                .reference
+                .positions(loaded.len())
+                .is_some()
+        );
+        for _ in 0..60 {
+            straight.step(1.0 / 60.0).unwrap();
+            loaded.step(1.0 / 60.0).unwrap();
+            assert_eq!(loaded.profile().rebuilds, straight.profile().rebuilds);
+            assert_eq!(loaded.stats(), straight.stats());
+        }
+        assert_eq!(loaded.state_hash(), straight.state_hash());
+    }
+
+    #[test]
+    fn a_loaded_reference_of_the_wrong_length_is_refused() {
+        let mut world = world(Boundary::Open, 1);
+        world.step(1.0 / 60.0).unwrap();
+        assert!(world.broadphase.reference.check(world.len()).is_ok());
+        // A reference for one disc fewer.
+        let mut shorter = world.particles.clone();
+        shorter.truncate(world.len() - 1);
+        let mut other = World::new(world.config.clone()).unwrap();
+        other.particles = shorter;
+        other.colliding_pairs();
+        let reference = other.broadphase.reference.clone();
+        let state = WorldState {
+            config: world.config.clone(),
+            particles: world.particles.clone(),
+            next_id: world.next_id,
+            time: world.time,
+            steps: world.steps,
+            stats: world.stats,
+            reference,
+        };
+        let error = World::try_from(state).unwrap_err().to_string();
+        assert!(
+            error.contains("reference positions for 599 and 599"),
+            "{error}"
+        );
     }
 }

@@ -1,0 +1,311 @@
+//! Contacts: the pairs that collide in one substep, and the canonical order they are resolved
+//! in.
+//!
+//! Detection applies the seed's test, `distance <= (r_i + r_j) collision_radius_scale`, to
+//! the broadphase's candidates. The order of resolution then depends on the current state
+//! alone, never on the candidates, their age, the storage order or the thread count:
+//!
+//! - An *order grid* of cells at least `1.01 d_max` wide (`d_max = 2 r_max
+//!   collision_radius_scale`, the largest collision distance) is laid over the world, fixed by
+//!   the configuration and the largest radius. Cells are paired into blocks two cells wide,
+//!   and blocks are coloured 2×2 by the parity of their coordinates.
+//! - A contact is written with the lower id first, and belongs to the block of that disc.
+//!   Its partner is within `d_max`, so in the same cell or the next: a block's contacts touch
+//!   only discs in its cells and their one-cell ring.
+//! - The canonical order is colour, block (row-major), lower id, higher id.
+//!
+//! Blocks of one colour are at least two cells apart, so their contacts touch disjoint discs:
+//! each colour's contacts are cut into pieces at block boundaries and the pieces resolve in
+//! parallel, with the bits of one thread. The 1% margin on the cell side absorbs rounding in
+//! the cell coordinates, whose magnitude is capped at 2^30 cells.
+
+use std::ops::Range;
+
+use crate::broadphase::{Broadphase, Periodicity, floor_to_isize, ordered};
+use crate::config::{Boundary, Config};
+use crate::parallel::Executor;
+use crate::particles::{ParticleId, Particles};
+
+/// Order-grid cells are this much wider than the largest collision distance.
+const CELL_MARGIN: f64 = 1.01;
+/// Cell coordinates of a grid without a periodic box are clamped to `±2^30`.
+const HALF_RANGE: isize = 1 << 30;
+/// A colour's contacts are cut into pieces of about this many for parallel resolution.
+const CONTACTS_PER_PIECE: usize = 256;
+/// At most this many pieces per colour.
+const MAX_PIECES: usize = 64;
+
+/// One colliding pair: storage indices `a` (the lower id) and `b`, and its sort key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Contact {
+    /// Colour (2 bits), block row (31 bits), block column (31 bits).
+    key: u64,
+    /// Lower id (high half), higher id (low half).
+    ids: u64,
+    pub(crate) a: u32,
+    pub(crate) b: u32,
+}
+
+/// What detection measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Detection {
+    pub pairs: usize,
+    pub max_overlap: f64,
+}
+
+/// The contacts of the last detection, in canonical order.
+#[derive(Debug, Default)]
+pub(crate) struct Contacts {
+    /// Contacts found per candidate block, before sorting.
+    found: Vec<Vec<Contact>>,
+    /// All contacts in canonical order.
+    pub(crate) list: Vec<Contact>,
+    /// Ranges of `list` that may be resolved in parallel with each other.
+    pub(crate) pieces: Vec<Range<usize>>,
+    /// Ranges of `pieces`, one per colour that has contacts, in order.
+    pub(crate) phases: Vec<Range<usize>>,
+}
+
+impl Contacts {
+    /// Tests every candidate of `broadphase` (which must cover the current positions) and
+    /// puts the colliding pairs in canonical order.
+    pub(crate) fn find(
+        &mut self,
+        broadphase: &Broadphase,
+        p: &Particles,
+        config: &Config,
+        exec: &Executor,
+    ) -> Detection {
+        let grid = OrderGrid::new(config, broadphase.max_radius());
+        let scale = config.collision_radius_scale;
+        let periodicity = Periodicity::of(config);
+        let candidates = &broadphase.candidates;
+        self.found.resize_with(candidates.len(), Vec::new);
+        self.found.truncate(candidates.len());
+        let overlaps = exec.map_mut(&mut self.found, |block, found| {
+            found.clear();
+            let mut max_overlap = 0.0f64;
+            for &[i, j] in &candidates[block] {
+                let (i, j) = (i as usize, j as usize);
+                let [dx, dy] = periodicity.diff(p.x[i], p.y[i], p.x[j], p.y[j]);
+                let d2 = dx * dx + dy * dy;
+                let reach = (p.radius[i] + p.radius[j]) * scale;
+                // A cheap squared early-out with a margin, then the seed's exact test on the
+                // distance itself (so rounding matches `collision::is_colliding`).
+                if d2 <= reach * reach * (1.0 + 1e-12) {
+                    let distance = d2.sqrt();
+                    if distance <= reach {
+                        max_overlap = max_overlap.max(reach - distance);
+                        let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
+                        found.push(Contact {
+                            key: grid.key(p.x[a], p.y[a]),
+                            ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
+                            a: a as u32,
+                            b: b as u32,
+                        });
+                    }
+                }
+            }
+            max_overlap
+        });
+
+        self.list.clear();
+        for found in &self.found {
+            self.list.extend_from_slice(found);
+        }
+        // Keys with ids are unique, so every sort gives the same order.
+        exec.sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
+        self.split();
+        Detection {
+            pairs: self.list.len(),
+            max_overlap: overlaps.into_iter().fold(0.0, f64::max),
+        }
+    }
+
+    /// Cuts the sorted list into colours and each colour into pieces at block boundaries.
+    fn split(&mut self) {
+        self.pieces.clear();
+        self.phases.clear();
+        let list = &self.list;
+        let mut start = 0;
+        for colour in 0..4u64 {
+            let end = start + list[start..].partition_point(|c| c.key >> 62 == colour);
+            if end == start {
+                continue;
+            }
+            let first_piece = self.pieces.len();
+            let count = ((end - start) / CONTACTS_PER_PIECE).clamp(1, MAX_PIECES);
+            let mut from = start;
+            for k in 1..=count {
+                let mut to = start + (end - start) * k / count;
+                // Never split a block.
+                while to < end && to > from && list[to].key == list[to - 1].key {
+                    to += 1;
+                }
+                if to > from {
+                    self.pieces.push(from..to);
+                    from = to;
+                }
+            }
+            self.phases.push(first_piece..self.pieces.len());
+            start = end;
+        }
+    }
+
+    /// The contacts as sorted id pairs.
+    pub(crate) fn pair_ids(&self, p: &Particles) -> Vec<(ParticleId, ParticleId)> {
+        let mut out: Vec<_> = self
+            .list
+            .iter()
+            .map(|c| ordered(p.id[c.a as usize], p.id[c.b as usize]))
+            .collect();
+        out.sort_unstable();
+        out
+    }
+}
+
+/// The order grid along one axis.
+#[derive(Clone, Copy, Debug)]
+struct OrderAxis {
+    origin: f64,
+    inv_cell: f64,
+    /// Cells across a periodic box (a multiple of 4), or 0 without one.
+    wrap: isize,
+    /// All discs in one block along this axis (a periodic box too narrow for 4 cells).
+    single: bool,
+}
+
+impl OrderAxis {
+    /// The block coordinate of `v`, below 2^30.
+    #[inline]
+    fn block(&self, v: f64) -> u64 {
+        if self.single {
+            return 0;
+        }
+        let cell = floor_to_isize((v - self.origin) * self.inv_cell);
+        let cell = if self.wrap > 0 {
+            cell.rem_euclid(self.wrap)
+        } else {
+            // Clamping never moves two cell coordinates further apart.
+            cell.clamp(-HALF_RANGE, HALF_RANGE - 1) + HALF_RANGE
+        };
+        (cell / 2) as u64
+    }
+}
+
+/// The grid that fixes the canonical order of contacts.
+#[derive(Clone, Copy, Debug)]
+struct OrderGrid([OrderAxis; 2]);
+
+impl OrderGrid {
+    fn new(config: &Config, max_radius: f64) -> Self {
+        let cell = CELL_MARGIN * 2.0 * max_radius * config.collision_radius_scale;
+        OrderGrid([0, 1].map(|axis| match config.boundary {
+            Boundary::Periodic { min, max } => {
+                let width = max[axis] - min[axis];
+                let n = (width / cell).floor();
+                let n = if n.is_finite() {
+                    n.min(1e9) as isize
+                } else {
+                    0
+                };
+                // Blocks of two cells, an even number of them, so colours alternate across
+                // the periodic edge too.
+                let n = n - n % 4;
+                OrderAxis {
+                    origin: min[axis],
+                    inv_cell: n as f64 / width,
+                    wrap: n,
+                    single: n < 4,
+                }
+            }
+            Boundary::Walls { min, .. } => OrderAxis {
+                origin: min[axis],
+                inv_cell: 1.0 / cell,
+                wrap: 0,
+                single: false,
+            },
+            Boundary::Open => OrderAxis {
+                origin: 0.0,
+                inv_cell: 1.0 / cell,
+                wrap: 0,
+                single: false,
+            },
+        }))
+    }
+
+    /// The sort key of a contact whose lower-id disc is at `(x, y)`.
+    #[inline]
+    fn key(&self, x: f64, y: f64) -> u64 {
+        let (bx, by) = (self.0[0].block(x), self.0[1].block(y));
+        let colour = (bx & 1) | ((by & 1) << 1);
+        (colour << 62) | (by << 31) | bx
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partners_within_the_largest_collision_distance_are_in_neighbouring_cells() {
+        // Cells of 1.01 for d_max = 1, far from the origin too.
+        let config = Config {
+            boundary: Boundary::Open,
+            ..Config::default()
+        };
+        let grid = OrderGrid::new(&config, 0.5);
+        for base in [0.0, -3.7, 1e6 + 0.123, -1e8] {
+            for k in 0..1000 {
+                let x = base + k as f64 * 0.0137;
+                let (c1, c2) = (
+                    floor_to_isize((x - grid.0[0].origin) * grid.0[0].inv_cell),
+                    floor_to_isize((x + 1.0 - grid.0[0].origin) * grid.0[0].inv_cell),
+                );
+                assert!((c2 - c1).abs() <= 1, "{x}: cells {c1} {c2}");
+            }
+        }
+    }
+
+    #[test]
+    fn colours_alternate_between_neighbouring_blocks() {
+        let config = Config {
+            boundary: Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+            ..Config::default()
+        };
+        let grid = OrderGrid::new(&config, 0.5);
+        // Blocks are two cells of 1.01 wide.
+        let colour = |x: f64, y: f64| grid.key(x, y) >> 62;
+        assert_eq!(colour(0.5, 0.5), 0);
+        assert_eq!(colour(2.5, 0.5), 1);
+        assert_eq!(colour(0.5, 2.5), 2);
+        assert_eq!(colour(2.5, 2.5), 3);
+        assert_eq!(colour(4.5, 4.5), 0);
+        // Slightly outside the walls: still an ordinary block.
+        assert_eq!(colour(-0.1, 0.5), 1);
+    }
+
+    #[test]
+    fn a_periodic_box_has_an_even_number_of_blocks_or_one() {
+        for width in [3.0, 4.5, 5.0, 7.9, 8.1, 100.0] {
+            let config = Config {
+                boundary: Boundary::Periodic {
+                    min: [0.0, 0.0],
+                    max: [width, width],
+                },
+                ..Config::default()
+            };
+            let axis = OrderGrid::new(&config, 0.5).0[0];
+            assert!(
+                axis.single || (axis.wrap % 4 == 0 && axis.wrap >= 4),
+                "{width}: {axis:?}"
+            );
+            // The wrap-around neighbours of the last block have the other parity.
+            if !axis.single {
+                let last = axis.block(width - 1e-9);
+                assert_eq!(last % 2, 1);
+                assert_eq!(axis.block(width + 1e-9), 0);
+            }
+        }
+    }
+}
