@@ -2,7 +2,7 @@
 //! Box2D v3 (through `boxdd`), side by side in one run.
 //!
 //! `cargo run --release -p bounce-bench -- [--quick] [--out DIR]` prints a Markdown table
-//! (median ms per step, particle-steps per second, ratio to bounce, peak memory) and writes
+//! (median and mean ms per step, particle-steps per second, ratio to bounce, peak memory) and writes
 //! `DIR/bench.csv` and `DIR/bench.png` (ns per particle-step against N). Each engine and scene
 //! runs in a child process of its own, so the peak resident memory it reports is that run's.
 
@@ -53,6 +53,9 @@ struct Row {
     engine: String,
     /// `None` when skipped (a step took over 2 s).
     median_ms: Option<f64>,
+    /// Mean over the same steps: bounce rebuilds its candidate list every few steps, so the
+    /// median alone would hide that cost.
+    mean_ms: Option<f64>,
     peak_mb: f64,
     note: String,
 }
@@ -102,6 +105,7 @@ fn main() -> Result<()> {
                     n: scene.count(),
                     engine: engine.name().to_string(),
                     median_ms: None,
+                    mean_ms: None,
                     peak_mb: f64::NAN,
                     note: format!("failed: {reason}"),
                 });
@@ -149,10 +153,12 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
         _ => 200,
     };
     let mut times: Vec<f64> = (0..steps).map(|_| sim.step_timed()).collect();
+    let mean = times.iter().sum::<f64>() / times.len() as f64;
     times.sort_by(f64::total_cmp);
     println!(
-        "ok {:.6} {:.1} {}; resident after the run {:.0} MB",
+        "ok {:.6} {:.6} {:.1} {}; resident after the run {:.0} MB",
         times[times.len() / 2] * 1e3,
+        mean * 1e3,
         peak_mb(),
         sim.note(),
         resident_mb()
@@ -184,16 +190,23 @@ fn status_mb(field: &str) -> f64 {
 fn parse_row(line: &str, scene: &SceneKind, engine: Engine) -> Result<Row> {
     let mut parts = line.splitn(4, ' ');
     let status = parts.next().unwrap_or_default();
-    let (median_ms, peak_mb, note) = match status {
+    let (median_ms, mean_ms, peak_mb, note) = match status {
         "ok" => {
+            let mut parts = line.splitn(5, ' ').skip(1);
             let ms: f64 = parts.next().context("median")?.parse()?;
+            let mean: f64 = parts.next().context("mean")?.parse()?;
             let mb: f64 = parts.next().context("memory")?.parse()?;
-            (Some(ms), mb, parts.next().unwrap_or("").to_string())
+            (
+                Some(ms),
+                Some(mean),
+                mb,
+                parts.next().unwrap_or("").to_string(),
+            )
         }
         "skipped" => {
             let mb: f64 = parts.next().context("memory")?.parse()?;
             let rest = [parts.next().unwrap_or(""), parts.next().unwrap_or("")].join(" ");
-            (None, mb, format!("skipped: {}", rest.trim()))
+            (None, None, mb, format!("skipped: {}", rest.trim()))
         }
         other => bail!("unexpected child output {other:?}"),
     };
@@ -202,6 +215,7 @@ fn parse_row(line: &str, scene: &SceneKind, engine: Engine) -> Result<Row> {
         n: scene.count(),
         engine: engine.name().to_string(),
         median_ms,
+        mean_ms,
         peak_mb,
         note,
     })
@@ -209,9 +223,9 @@ fn parse_row(line: &str, scene: &SceneKind, engine: Engine) -> Result<Row> {
 
 fn print_table(rows: &[Row], scenes: &[SceneKind]) {
     println!(
-        "| scene | N | engine | median ms/step | particle-steps/s | time vs bounce (2 threads) | peak MB | notes |"
+        "| scene | N | engine | median ms/step | mean ms/step | particle-steps/s | time vs bounce (2 threads) | peak MB | notes |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for scene in scenes {
         let of_scene: Vec<&Row> = rows.iter().filter(|r| r.scene == scene.name()).collect();
         let reference = of_scene
@@ -227,8 +241,9 @@ fn print_table(rows: &[Row], scenes: &[SceneKind]) {
                 ),
                 None => ("–".into(), "–".into(), "–".into()),
             };
+            let mean = r.mean_ms.map_or("–".into(), |m| format!("{m:.2}"));
             println!(
-                "| {} | {} | {} | {ms} | {rate} | {ratio} | {:.0} | {} |",
+                "| {} | {} | {} | {ms} | {mean} | {rate} | {ratio} | {:.0} | {} |",
                 r.scene, r.n, r.engine, r.peak_mb, r.note
             );
         }
@@ -236,11 +251,12 @@ fn print_table(rows: &[Row], scenes: &[SceneKind]) {
 }
 
 fn write_csv(rows: &[Row], path: &std::path::Path) -> Result<()> {
-    let mut text = String::from("scene,n,engine,median_ms,peak_mb\n");
+    let mut text = String::from("scene,n,engine,median_ms,mean_ms,peak_mb\n");
     for r in rows {
         let ms = r.median_ms.map_or(String::new(), |v| v.to_string());
+        let mean = r.mean_ms.map_or(String::new(), |v| v.to_string());
         text.push_str(&format!(
-            "{},{},{},{ms},{}\n",
+            "{},{},{},{ms},{mean},{}\n",
             r.scene, r.n, r.engine, r.peak_mb
         ));
     }

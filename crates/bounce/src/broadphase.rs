@@ -194,8 +194,7 @@ pub(crate) struct Broadphase {
     listed: bool,
     /// The largest radius at the last rebuild.
     max_radius: f64,
-    // Scratch reused between rebuilds.
-    key: Vec<u32>,
+    // Scratch reused between rebuilds (the cell keys live in `scratch`).
     order: Vec<u32>,
     /// Per-disc level; empty when all discs share level 0.
     level_of: Vec<u8>,
@@ -456,11 +455,10 @@ impl Broadphase {
 
         // 3. Stable counting sort by global cell index. Storage is in cell order from the
         // last rebuild except for discs that changed cell, so this walks memory in order.
-        self.key.resize(count, 0);
+        let keys = self.scratch.u32s(count);
         {
             let (levels, level_of) = (&self.levels, &self.level_of);
-            let mut chunks: Vec<(usize, &mut [u32])> =
-                self.key.chunks_mut(CHUNK).enumerate().collect();
+            let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
             exec.for_each_mut(&mut chunks, |_, (c, keys)| {
                 let base = *c * CHUNK;
                 for (k, key) in keys.iter_mut().enumerate() {
@@ -476,7 +474,7 @@ impl Broadphase {
             });
         }
         self.cell_start.resize(total_cells + 1, 0);
-        for &k in &self.key {
+        for &k in keys.iter() {
             self.cell_start[k as usize + 1] += 1;
         }
         for c in 0..total_cells {
@@ -487,7 +485,7 @@ impl Broadphase {
             // Place each disc at its cell's next free slot; afterwards slot `c` holds the end
             // of cell `c`, and one shift restores the starts.
             let next = &mut self.cell_start;
-            for (i, &k) in self.key.iter().enumerate() {
+            for (i, &k) in keys.iter().enumerate() {
                 let slot = &mut next[k as usize];
                 self.order[*slot as usize] = i as u32;
                 *slot += 1;
@@ -640,6 +638,10 @@ impl Broadphase {
         exec.for_each_mut(&mut self.candidates, |b, pairs| {
             pairs.clear();
             ctx.block_pairs(&blocks[b], pairs);
+            // A list kept from a larger block of an earlier grid gives back its excess.
+            if pairs.capacity() > 2 * pairs.len() + 1024 {
+                pairs.shrink_to(pairs.len() + pairs.len() / 4);
+            }
         });
     }
 }
@@ -676,7 +678,10 @@ impl Context<'_> {
         );
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to the spare capacity and the length only advances on a hit.
-        out.reserve(xs.len());
+        if out.capacity() - out.len() < xs.len() {
+            // Grow by a quarter, not double: the lists are a large part of the memory.
+            out.reserve_exact(xs.len().max(out.capacity() / 4));
+        }
         let mut len = out.len();
         let spare = out.spare_capacity_mut();
         let mut written = 0;

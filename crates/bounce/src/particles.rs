@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::config::{Boundary, Config};
-use crate::parallel::Executor;
+use crate::parallel::{CHUNK, Executor};
 
 /// A particle's stable identity, assigned in order of addition from 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -250,42 +250,78 @@ impl Particles {
         self.mass.truncate(len);
     }
 
-    /// Reorders every array so that new index `k` holds old index `order[k]`. Two lanes of
-    /// three arrays each run in parallel; within a lane each array is gathered into the
-    /// lane's scratch and swapped in, so the old array becomes the scratch for the next one.
-    /// Extra memory: two arrays, not six.
+    /// Reorders every array so that new index `k` holds old index `order[k]`. Each array is
+    /// gathered into the scratch array in parallel chunks and swapped in, so the old array
+    /// becomes the scratch for the next one; the ids are gathered into the scratch viewed as
+    /// `u32`s and copied back. Extra memory: one `f64` array.
     pub(crate) fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch, exec: &Executor) {
-        debug_assert_eq!(order.len(), self.len());
-        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32], out: &mut Vec<T>) {
-            out.clear();
-            out.reserve(v.len());
-            for (slot, &i) in out.spare_capacity_mut().iter_mut().zip(order) {
-                // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting
-                // sort), checked in debug builds.
-                debug_assert!((i as usize) < v.len());
-                slot.write(unsafe { *v.get_unchecked(i as usize) });
-            }
-            // SAFETY: `order.len() == v.len()` slots were written above.
-            unsafe { out.set_len(order.len()) };
-            std::mem::swap(v, out);
+        let n = self.len();
+        debug_assert_eq!(order.len(), n);
+        for v in [
+            &mut self.x,
+            &mut self.y,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.radius,
+            &mut self.mass,
+        ] {
+            let out = scratch.f64s(n);
+            gather(v, order, out, exec);
+            std::mem::swap(v, &mut scratch.f64);
         }
-        let [lane_a, lane_b] = &mut scratch.f64;
-        let mut lanes: [(Vec<&mut Vec<f64>>, &mut Vec<f64>); 2] = [
-            (vec![&mut self.x, &mut self.vx, &mut self.radius], lane_a),
-            (vec![&mut self.y, &mut self.vy, &mut self.mass], lane_b),
-        ];
-        exec.for_each_mut(&mut lanes, |_, (arrays, out)| {
-            for v in arrays.iter_mut() {
-                gather(v, order, out);
+        let out = scratch.u32s(n);
+        let source: &[ParticleId] = &self.id;
+        let mut chunks: Vec<_> = out
+            .chunks_mut(GATHER_CHUNK)
+            .zip(order.chunks(GATHER_CHUNK))
+            .collect();
+        exec.for_each_mut(&mut chunks, |_, (slots, order)| {
+            for (slot, &i) in slots.iter_mut().zip(order.iter()) {
+                *slot = source[i as usize].0;
             }
         });
-        gather(&mut self.id, order, &mut scratch.id);
+        for (id, &v) in self.id.iter_mut().zip(out.iter()) {
+            *id = ParticleId(v);
+        }
     }
+}
+
+/// Discs per parallel piece of a gather.
+const GATHER_CHUNK: usize = 16 * CHUNK;
+
+/// `out[k] = v[order[k]]`, in parallel chunks.
+fn gather(v: &[f64], order: &[u32], out: &mut [f64], exec: &Executor) {
+    let mut chunks: Vec<_> = out
+        .chunks_mut(GATHER_CHUNK)
+        .zip(order.chunks(GATHER_CHUNK))
+        .collect();
+    exec.for_each_mut(&mut chunks, |_, (slots, order)| {
+        for (slot, &i) in slots.iter_mut().zip(order.iter()) {
+            // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting sort),
+            // checked in debug builds.
+            debug_assert!((i as usize) < v.len());
+            *slot = unsafe { *v.get_unchecked(i as usize) };
+        }
+    });
 }
 
 /// Buffers [`Particles::permute`] reuses between steps.
 #[derive(Debug, Default)]
 pub(crate) struct PermuteScratch {
-    f64: [Vec<f64>; 2],
-    id: Vec<ParticleId>,
+    f64: Vec<f64>,
+}
+
+impl PermuteScratch {
+    /// The scratch as `n` `f64`s (contents unspecified).
+    pub(crate) fn f64s(&mut self, n: usize) -> &mut [f64] {
+        self.f64.resize(n, 0.0);
+        &mut self.f64
+    }
+
+    /// The scratch as at least `n` `u32`s (contents unspecified): the broadphase sorts its
+    /// cell keys here, so no array of its own is needed.
+    pub(crate) fn u32s(&mut self, n: usize) -> &mut [u32] {
+        self.f64.resize(n.div_ceil(2), 0.0);
+        &mut bytemuck::cast_slice_mut(&mut self.f64[..])[..n]
+    }
 }
