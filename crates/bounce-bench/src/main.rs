@@ -132,11 +132,9 @@ fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
     let engine = Engine::parse(engine)?;
     let scene = SceneKind::parse(scene)?;
     let setup = scene.build();
-    let mut sim = engine.create(&setup)?;
     let count = setup.discs.len();
-    // The engine has its own copy now: free the shared one so the resident figure is the
-    // engine's.
-    drop(setup);
+    // The engine consumes the setup, so the resident figure is the engine's.
+    let mut sim = engine.create(setup)?;
     // One trial step decides whether the peer is too slow to measure at this size.
     let trial = sim.step_timed();
     if trial > 2.0 {
