@@ -646,6 +646,13 @@ impl Broadphase {
     }
 }
 
+/// Whether the cell's forward half-stencil is the full one with no edge in between:
+/// `(cx + 1, cy)` and `(cx - 1..=cx + 1, cy + 1)`, all inside the grid.
+#[inline]
+fn interior(g: &LevelGrid, cx: usize, cy: usize) -> bool {
+    g.forward.len() == 4 && cx >= 1 && cx + 1 < g.n[0] && cy + 1 < g.n[1]
+}
+
 /// Read-only view the candidate search of one block needs.
 struct Context<'a> {
     x: &'a [f64],
@@ -707,6 +714,22 @@ impl Context<'_> {
                 let own_cell = g.cell_index(cx, cy);
                 let own = self.cell_range(own_cell);
                 if own.is_empty() {
+                    continue;
+                }
+                if interior(g, cx, cy) {
+                    // The common case, without the edge logic below: the own cell with the
+                    // next, and the three cells of the row above, are each one run.
+                    let above = own_cell + g.n[0];
+                    let first_end = self.cell_start[own_cell + 2] as usize;
+                    let upper = self.cell_start[above - 1] as usize
+                        ..self.cell_start[above + 2] as usize;
+                    for a in own.clone() {
+                        self.test(a, a + 1..first_end, out);
+                        self.test(a, upper.clone(), out);
+                        for fine in finer {
+                            self.scan_finer(a, fine, out);
+                        }
+                    }
                     continue;
                 }
                 // The own cell and the forward half-stencil, in stencil order, with cells that
