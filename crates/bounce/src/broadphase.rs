@@ -52,7 +52,7 @@ const MAX_LEVELS: usize = 16;
 const DISCS_PER_BLOCK: f64 = 1024.0;
 /// The skin is at least this fraction of the interaction diameter of the finest level's
 /// largest disc. A wider skin lists more candidates and rebuilds less often.
-const SKIN_FRACTION: f64 = 0.6;
+const SKIN_FRACTION: f64 = 0.75;
 /// And wide enough for the fastest disc to take this many substeps to use up the allowance.
 const MIN_SUBSTEPS_PER_REBUILD: f64 = 4.0;
 /// A rebuild follows once some disc has moved this fraction of the skin (a little under one
@@ -721,8 +721,8 @@ impl Context<'_> {
                     // next, and the three cells of the row above, are each one run.
                     let above = own_cell + g.n[0];
                     let first_end = self.cell_start[own_cell + 2] as usize;
-                    let upper = self.cell_start[above - 1] as usize
-                        ..self.cell_start[above + 2] as usize;
+                    let upper =
+                        self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
                     for a in own.clone() {
                         self.test(a, a + 1..first_end, out);
                         self.test(a, upper.clone(), out);
