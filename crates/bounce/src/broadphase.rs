@@ -339,14 +339,14 @@ impl Broadphase {
         let skin = self.bin(&p.x, &p.y, &p.radius, config, Skin::Stride(stride), exec);
         p.permute(&self.order, &mut self.scratch, exec);
         self.list_candidates(&p.x, &p.y, &p.radius, config, skin, exec);
-        let slack =
-            p.x.iter().chain(&p.y).fold(0.0f64, |m, v| m.max(v.abs())) * (f32::EPSILON as f64);
+        let largest = f64::max(
+            to_f32(&p.x, &mut self.reference.x, exec),
+            to_f32(&p.y, &mut self.reference.y, exec),
+        );
         self.reference.skin = skin;
-        self.reference.slack = slack;
-        self.reference.x.clear();
-        self.reference.x.extend(p.x.iter().map(|&v| v as f32));
-        self.reference.y.clear();
-        self.reference.y.extend(p.y.iter().map(|&v| v as f32));
+        // Rounding to f32 moves a coordinate by at most half an f32 epsilon of it; the slack
+        // covers two discs.
+        self.reference.slack = largest * f32::EPSILON as f64;
         if count == 0 || !self.reference.covers(0.0) {
             // Coordinates so large that f32 cannot place them within the skin: no reference,
             // so every step rebuilds.
@@ -644,6 +644,25 @@ impl Broadphase {
             }
         });
     }
+}
+
+/// Stores `v` as `f32` in `out` (in parallel chunks); returns the largest `|v|`.
+fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
+    out.resize(v.len(), 0.0);
+    let mut chunks: Vec<_> = out
+        .chunks_mut(16 * CHUNK)
+        .zip(v.chunks(16 * CHUNK))
+        .collect();
+    exec.map_mut(&mut chunks, |_, (out, v)| {
+        let mut largest = 0.0f64;
+        for (o, &v) in out.iter_mut().zip(v.iter()) {
+            *o = v as f32;
+            largest = largest.max(v.abs());
+        }
+        largest
+    })
+    .into_iter()
+    .fold(0.0, f64::max)
 }
 
 /// Whether the cell's forward half-stencil is the full one with no edge in between:
