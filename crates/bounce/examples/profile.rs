@@ -1,4 +1,5 @@
-//! Per-stage time of the gas scene: `cargo run --release --example profile [COUNT] [THREADS]`.
+//! Per-stage time of the gas scene:
+//! `cargo run --release --example profile [COUNT] [THREADS] [STEPS]`.
 
 use bounce::scene::{self, Speeds};
 use bounce::{StepProfile, World};
@@ -17,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .add_particles(discs)
         .map_err(|(i, e)| format!("{i}: {e}"))?;
     world.set_threads(threads)?;
-    let steps = 20;
+    let steps: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(20);
     let mut sum = StepProfile::default();
     let mut totals = Vec::new();
     let mut pairs = 0;

@@ -67,45 +67,19 @@ impl Edge {
             },
         }
     }
-
-    /// Applies the boundary to one disc of radius `r` and mass `m`.
-    #[inline]
-    pub(crate) fn apply(
-        &self,
-        pos: [&mut f64; 2],
-        vel: [&mut f64; 2],
-        r: f64,
-        m: f64,
-        impulse: &mut WallImpulse,
-    ) {
-        match *self {
-            Edge::Open => {}
-            Edge::Walls {
-                min,
-                max,
-                restitution,
-            } => {
-                let [x, y] = pos;
-                let [vx, vy] = vel;
-                let (left, right) = reflect(x, vx, r, min[0], max[0], restitution, m);
-                let (bottom, top) = reflect(y, vy, r, min[1], max[1], restitution, m);
-                impulse.left += left;
-                impulse.right += right;
-                impulse.bottom += bottom;
-                impulse.top += top;
-            }
-            Edge::Periodic { min, size } => {
-                let [x, y] = pos;
-                wrap(x, min[0], size[0]);
-                wrap(y, min[1], size[1]);
-            }
-        }
-    }
 }
 
 /// One axis of the walls; returns the impulse given to the low and the high wall.
 #[inline]
-fn reflect(x: &mut f64, v: &mut f64, r: f64, lo: f64, hi: f64, e: f64, m: f64) -> (f64, f64) {
+pub(crate) fn reflect(
+    x: &mut f64,
+    v: &mut f64,
+    r: f64,
+    lo: f64,
+    hi: f64,
+    e: f64,
+    m: f64,
+) -> (f64, f64) {
     if *x - r < lo {
         *x = lo + r;
         if *v < 0.0 {
@@ -128,7 +102,7 @@ fn reflect(x: &mut f64, v: &mut f64, r: f64, lo: f64, hi: f64, e: f64, m: f64) -
 
 /// One axis of the periodic box: back into `[lo, lo + size)`.
 #[inline]
-fn wrap(x: &mut f64, lo: f64, size: f64) {
+pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) {
     if *x < lo {
         *x += size;
     } else if *x >= lo + size {

@@ -280,11 +280,22 @@ impl Broadphase {
         self.max_radius
     }
 
+    /// A bound on every radius: the largest at the last listing while the list stands (no
+    /// disc added since), else infinite.
+    pub(crate) fn radius_bound(&self) -> f64 {
+        if self.listed {
+            self.max_radius
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Forgets the candidates and the reference: the next [`Broadphase::update`] rebuilds.
     /// Called whenever discs or the configuration change outside the step.
     pub(crate) fn invalidate(&mut self) {
         self.reference = Reference::default();
         self.listed = false;
+        self.max_radius = f64::INFINITY;
     }
 
     /// Makes the candidates cover the current positions, given the largest squared

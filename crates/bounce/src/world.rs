@@ -181,6 +181,7 @@ impl World {
                 &self.config,
                 h,
                 &self.broadphase.reference,
+                self.broadphase.radius_bound(),
                 &self.exec,
             );
             stats.wall_impulse.add(&moved.impulse);
