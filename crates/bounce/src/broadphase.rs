@@ -192,6 +192,8 @@ pub(crate) struct Broadphase {
     pub(crate) reference: Reference,
     /// Whether `candidates` were listed for `reference` (not so after loading a world).
     listed: bool,
+    /// The number of discs at the last listing.
+    count: usize,
     /// The largest radius at the last rebuild.
     max_radius: f64,
     // Scratch reused between rebuilds (the cell keys live in `scratch`).
@@ -214,6 +216,11 @@ impl Periodicity {
             }
             _ => Periodicity(None),
         }
+    }
+
+    /// Whether positions wrap.
+    pub(crate) fn is_periodic(&self) -> bool {
+        self.0.is_some()
     }
 
     /// `p1 - p2`, as the minimum image in a periodic box. Positions may sit slightly outside
@@ -278,6 +285,11 @@ impl Broadphase {
     /// The largest radius at the last rebuild: what the contact order's grid is sized for.
     pub(crate) fn max_radius(&self) -> f64 {
         self.max_radius
+    }
+
+    /// How many discs the candidates were listed for, if they are listed.
+    pub(crate) fn listed_count(&self) -> Option<usize> {
+        self.listed.then_some(self.count)
     }
 
     /// A bound on every radius: the largest at the last listing while the list stands (no
@@ -364,6 +376,7 @@ impl Broadphase {
             self.reference = Reference::default();
         }
         self.listed = true;
+        self.count = p.len();
     }
 
     /// Lists candidates for the stored reference positions without reordering storage: bins a
@@ -385,6 +398,7 @@ impl Broadphase {
             }
         }
         self.listed = true;
+        self.count = p.len();
     }
 
     /// Levels, grids, the stable counting sort into `order` (new index `k` holds old index

@@ -21,7 +21,7 @@
 
 use std::ops::Range;
 
-use crate::broadphase::{Broadphase, Periodicity, floor_to_isize, ordered};
+use crate::broadphase::{Broadphase, Pair, Periodicity, floor_to_isize, ordered};
 use crate::config::{Boundary, Config};
 use crate::parallel::Executor;
 use crate::particles::{ParticleId, Particles};
@@ -82,32 +82,35 @@ impl Contacts {
         let candidates = &broadphase.candidates;
         self.found.resize_with(candidates.len(), Vec::new);
         self.found.truncate(candidates.len());
-        let overlaps = exec.map_mut(&mut self.found, |block, found| {
-            found.clear();
-            let mut max_overlap = 0.0f64;
-            for &[i, j] in &candidates[block] {
-                let (i, j) = (i as usize, j as usize);
-                let [dx, dy] = periodicity.diff(p.x[i], p.y[i], p.x[j], p.y[j]);
-                let d2 = dx * dx + dy * dy;
-                let reach = (p.radius[i] + p.radius[j]) * scale;
-                // A cheap squared early-out with a margin, then the seed's exact test on the
-                // distance itself (so rounding matches `collision::is_colliding`).
-                if d2 <= reach * reach * (1.0 + 1e-12) {
-                    let distance = d2.sqrt();
-                    if distance <= reach {
-                        max_overlap = max_overlap.max(reach - distance);
-                        let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
-                        found.push(Contact {
-                            key: grid.key(p.x[a], p.y[a]),
-                            ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
-                            a: a as u32,
-                            b: b as u32,
-                        });
-                    }
-                }
-            }
-            max_overlap
-        });
+        // Candidate indices are storage indices of this many discs (the list is rebuilt
+        // whenever discs are added or reordered): what `test` relies on.
+        assert_eq!(
+            broadphase.listed_count(),
+            Some(p.len()),
+            "stale candidate list"
+        );
+        let overlaps = match periodicity {
+            _ if !periodicity.is_periodic() => exec.map_mut(&mut self.found, |block, found| {
+                test(
+                    &candidates[block],
+                    p,
+                    scale,
+                    &grid,
+                    found,
+                    |x1, y1, x2, y2| [x1 - x2, y1 - y2],
+                )
+            }),
+            periodic => exec.map_mut(&mut self.found, |block, found| {
+                test(
+                    &candidates[block],
+                    p,
+                    scale,
+                    &grid,
+                    found,
+                    |x1, y1, x2, y2| periodic.diff(x1, y1, x2, y2),
+                )
+            }),
+        };
 
         self.list.clear();
         for found in &self.found {
@@ -162,6 +165,57 @@ impl Contacts {
         out.sort_unstable();
         out
     }
+}
+
+/// Tests candidate pairs with the seed's rule, writing contacts to `found`; returns the
+/// largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box).
+#[inline(always)]
+fn test(
+    candidates: &[Pair],
+    p: &Particles,
+    scale: f64,
+    grid: &OrderGrid,
+    found: &mut Vec<Contact>,
+    diff: impl Fn(f64, f64, f64, f64) -> [f64; 2],
+) -> f64 {
+    found.clear();
+    let mut max_overlap = 0.0f64;
+    let (x, y, radius) = (&p.x[..], &p.y[..], &p.radius[..]);
+    for &[i, j] in candidates {
+        let (i, j) = (i as usize, j as usize);
+        debug_assert!(i < x.len() && j < x.len());
+        // SAFETY: candidates index the current storage (checked by the caller), and every
+        // particle array has the same length.
+        let (xi, yi, ri, xj, yj, rj) = unsafe {
+            (
+                *x.get_unchecked(i),
+                *y.get_unchecked(i),
+                *radius.get_unchecked(i),
+                *x.get_unchecked(j),
+                *y.get_unchecked(j),
+                *radius.get_unchecked(j),
+            )
+        };
+        let [dx, dy] = diff(xi, yi, xj, yj);
+        let d2 = dx * dx + dy * dy;
+        let reach = (ri + rj) * scale;
+        // A cheap squared early-out with a margin, then the seed's exact test on the
+        // distance itself (so rounding matches `collision::is_colliding`).
+        if d2 <= reach * reach * (1.0 + 1e-12) {
+            let distance = d2.sqrt();
+            if distance <= reach {
+                max_overlap = max_overlap.max(reach - distance);
+                let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
+                found.push(Contact {
+                    key: grid.key(x[a], y[a]),
+                    ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
+                    a: a as u32,
+                    b: b as u32,
+                });
+            }
+        }
+    }
+    max_overlap
 }
 
 /// The order grid along one axis.
