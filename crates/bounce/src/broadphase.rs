@@ -649,20 +649,37 @@ impl Broadphase {
         margin: f64,
         exec: &Executor,
     ) {
-        let ctx = Context {
-            x,
-            y,
-            radius,
-            levels: &self.levels,
-            cell_start: &self.cell_start,
-            scale: config.collision_radius_scale,
-            margin,
-            periodicity: Periodicity::of(config),
-        };
+        let periodicity = Periodicity::of(config);
         let blocks = &self.blocks;
+        let (levels, cell_start) = (&self.levels[..], &self.cell_start[..]);
+        let scale = config.collision_radius_scale;
         exec.for_each_mut(&mut self.candidates, |b, pairs| {
             pairs.clear();
-            ctx.block_pairs(&blocks[b], pairs);
+            if periodicity.is_periodic() {
+                Context::<true> {
+                    x,
+                    y,
+                    radius,
+                    levels,
+                    cell_start,
+                    scale,
+                    margin,
+                    periodicity,
+                }
+                .block_pairs(&blocks[b], pairs);
+            } else {
+                Context::<false> {
+                    x,
+                    y,
+                    radius,
+                    levels,
+                    cell_start,
+                    scale,
+                    margin,
+                    periodicity,
+                }
+                .block_pairs(&blocks[b], pairs);
+            }
             // A list kept from a larger block of an earlier grid gives back its excess.
             if pairs.capacity() > 2 * pairs.len() + 1024 {
                 pairs.shrink_to(pairs.len() + pairs.len() / 4);
@@ -697,8 +714,9 @@ fn interior(g: &LevelGrid, cx: usize, cy: usize) -> bool {
     g.forward.len() == 4 && cx >= 1 && cx + 1 < g.n[0] && cy + 1 < g.n[1]
 }
 
-/// Read-only view the candidate search of one block needs.
-struct Context<'a> {
+/// Read-only view the candidate search of one block needs; `PERIODIC` picks the minimum
+/// image at compile time.
+struct Context<'a, const PERIODIC: bool> {
     x: &'a [f64],
     y: &'a [f64],
     radius: &'a [f64],
@@ -710,23 +728,21 @@ struct Context<'a> {
     periodicity: Periodicity,
 }
 
-impl Context<'_> {
+impl<const PERIODIC: bool> Context<'_, PERIODIC> {
     #[inline]
     fn cell_range(&self, cell: usize) -> Range<usize> {
         self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
     }
 
-    /// Lists `a` with each disc of `others` within the candidate distance.
+    /// Lists `a` with each disc of `others` within distance `sqrt(cut2)`: at least the
+    /// collision distance plus the margin of every pair tested, so each list is a superset
+    /// and one constant serves a whole run.
     #[inline(always)]
-    fn test(&self, a: usize, others: Range<usize>, out: &mut Vec<Pair>) {
-        let (xa, ya, ra) = (self.x[a], self.y[a], self.radius[a]);
+    fn test(&self, a: usize, others: Range<usize>, cut2: f64, out: &mut Vec<Pair>) {
+        let (xa, ya) = (self.x[a], self.y[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
-        let (xs, ys, rs) = (
-            &self.x[others.clone()],
-            &self.y[others.clone()],
-            &self.radius[others],
-        );
+        let (xs, ys) = (&self.x[others.clone()], &self.y[others]);
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to the spare capacity and the length only advances on a hit.
         if out.capacity() - out.len() < xs.len() {
@@ -736,10 +752,13 @@ impl Context<'_> {
         let mut len = out.len();
         let spare = out.spare_capacity_mut();
         let mut written = 0;
-        for (k, ((&xb, &yb), &rb)) in xs.iter().zip(ys).zip(rs).enumerate() {
-            let [dx, dy] = self.periodicity.diff(xa, ya, xb, yb);
-            let cut = (ra + rb) * self.scale + self.margin;
-            let hit = dx * dx + dy * dy <= cut * cut;
+        for (k, (&xb, &yb)) in xs.iter().zip(ys).enumerate() {
+            let [dx, dy] = if PERIODIC {
+                self.periodicity.diff(xa, ya, xb, yb)
+            } else {
+                [xa - xb, ya - yb]
+            };
+            let hit = dx * dx + dy * dy <= cut2;
             // `written <= k < xs.len()`, within the reserved spare capacity.
             spare[written].write([a as u32, (start + k) as u32]);
             written += hit as usize;
@@ -753,6 +772,9 @@ impl Context<'_> {
     fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) {
         let g = &self.levels[block.level];
         let finer = &self.levels[..block.level];
+        // Discs of one level are at most its largest radius.
+        let own_cut = 2.0 * g.max_radius * self.scale + self.margin;
+        let own_cut2 = own_cut * own_cut;
         for cy in block.y.clone() {
             for cx in block.x.clone() {
                 let own_cell = g.cell_index(cx, cy);
@@ -768,8 +790,8 @@ impl Context<'_> {
                     let upper =
                         self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
                     for a in own.clone() {
-                        self.test(a, a + 1..first_end, out);
-                        self.test(a, upper.clone(), out);
+                        self.test(a, a + 1..first_end, own_cut2, out);
+                        self.test(a, upper.clone(), own_cut2, out);
                         for fine in finer {
                             self.scan_finer(a, fine, out);
                         }
@@ -802,9 +824,9 @@ impl Context<'_> {
                 let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test(a, a + 1..first_end, out);
+                    self.test(a, a + 1..first_end, own_cut2, out);
                     for range in &ranges[1..count] {
-                        self.test(a, range.clone(), out);
+                        self.test(a, range.clone(), own_cut2, out);
                     }
                     // Finer levels: every cell under this disc's reach.
                     for fine in finer {
@@ -852,7 +874,7 @@ impl Context<'_> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[fine.cell_index(c0, cy)] as usize
                     ..self.cell_start[fine.cell_index(c1, cy) + 1] as usize;
-                self.test(a, range, out);
+                self.test(a, range, reach * reach, out);
             }
         }
     }
