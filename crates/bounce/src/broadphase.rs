@@ -484,7 +484,7 @@ impl Broadphase {
         {
             let (levels, level_of) = (&self.levels, &self.level_of);
             let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
-            exec.for_each_mut(&mut chunks, |_, (c, keys)| {
+            exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
                 let base = *c * CHUNK;
                 for (k, key) in keys.iter_mut().enumerate() {
                     let i = base + k;
@@ -653,7 +653,7 @@ impl Broadphase {
         let blocks = &self.blocks;
         let (levels, cell_start) = (&self.levels[..], &self.cell_start[..]);
         let scale = config.collision_radius_scale;
-        exec.for_each_mut(&mut self.candidates, |b, pairs| {
+        exec.for_each_mut(x.len(), &mut self.candidates, |b, pairs| {
             pairs.clear();
             if periodicity.is_periodic() {
                 Context::<true> {
@@ -695,7 +695,7 @@ fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
         .chunks_mut(16 * CHUNK)
         .zip(v.chunks(16 * CHUNK))
         .collect();
-    exec.map_mut(&mut chunks, |_, (out, v)| {
+    exec.map_mut(v.len(), &mut chunks, |_, (out, v)| {
         let mut largest = 0.0f64;
         for (o, &v) in out.iter_mut().zip(v.iter()) {
             *o = v as f32;

@@ -89,18 +89,22 @@ impl Contacts {
             Some(p.len()),
             "stale candidate list"
         );
+        // About one unit of work per candidate.
+        let work = candidates.iter().map(Vec::len).sum();
         let overlaps = match periodicity {
-            _ if !periodicity.is_periodic() => exec.map_mut(&mut self.found, |block, found| {
-                test(
-                    &candidates[block],
-                    p,
-                    scale,
-                    &grid,
-                    found,
-                    |x1, y1, x2, y2| [x1 - x2, y1 - y2],
-                )
-            }),
-            periodic => exec.map_mut(&mut self.found, |block, found| {
+            _ if !periodicity.is_periodic() => {
+                exec.map_mut(work, &mut self.found, |block, found| {
+                    test(
+                        &candidates[block],
+                        p,
+                        scale,
+                        &grid,
+                        found,
+                        |x1, y1, x2, y2| [x1 - x2, y1 - y2],
+                    )
+                })
+            }
+            periodic => exec.map_mut(work, &mut self.found, |block, found| {
                 test(
                     &candidates[block],
                     p,

@@ -123,13 +123,15 @@ impl State<'_> {
     ) -> Vec<(WallImpulse, f64, f64)> {
         let chunks = 0..self.n.div_ceil(CHUNK);
         match reference {
-            Some((rx, ry)) => exec.map_index(chunks, |chunk| {
+            Some((rx, ry)) => exec.map_index(self.n, chunks, |chunk| {
                 self.chunk(chunk, &boundary, |i, x, y| {
                     let [dx, dy] = periodicity.diff(x, y, rx[i] as f64, ry[i] as f64);
                     dx * dx + dy * dy
                 })
             }),
-            None => exec.map_index(chunks, |chunk| self.chunk(chunk, &boundary, |_, _, _| 0.0)),
+            None => exec.map_index(self.n, chunks, |chunk| {
+                self.chunk(chunk, &boundary, |_, _, _| 0.0)
+            }),
         }
     }
 

@@ -12,8 +12,9 @@
 //! What it aims for, in order:
 //! 1. **Faithful**: the seed's formulas term for term ([`collision::resolve_pair`]).
 //! 2. **Deterministic**: the same input gives the same bits, whatever the thread count.
-//! 3. **Fast**: O(N) per step with a hierarchy of uniform grids, particles kept in cell
-//!    order, pairs resolved in parallel blocks.
+//! 3. **Fast**: O(N) per step: candidate pairs listed with a hierarchy of uniform grids and
+//!    kept for several steps (a skin), particles kept in cell order, contacts resolved in
+//!    parallel blocks.
 //!
 //! ```
 //! use bounce::{Boundary, Config, Particle, World};

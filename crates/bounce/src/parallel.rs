@@ -12,6 +12,10 @@ use rayon::prelude::*;
 /// chunk order, so floating-point sums do not depend on the thread count.
 pub(crate) const CHUNK: usize = 4096;
 
+/// Work below this size (about one unit per disc) runs on the calling thread: waking the
+/// pool costs more than it saves. Results never depend on where work runs.
+const PARALLEL_MIN_WORK: usize = 65_536;
+
 /// Where the step's work runs: the calling thread, or a rayon pool of a fixed size.
 #[derive(Debug, Default)]
 pub(crate) struct Executor {
@@ -50,9 +54,20 @@ impl Executor {
         self.pool.as_ref().map_or(1, |p| p.current_num_threads())
     }
 
-    /// Calls `f(i, item)` for each item; in parallel when there is a pool.
-    pub(crate) fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
-        match &self.pool {
+    /// The pool, when there is one and `work` is worth it.
+    fn pool_for(&self, work: usize) -> Option<&rayon::ThreadPool> {
+        self.pool.as_ref().filter(|_| work >= PARALLEL_MIN_WORK)
+    }
+
+    /// Calls `f(i, item)` for each item; in parallel when there is a pool and `work` (about
+    /// one unit per disc) is large enough.
+    pub(crate) fn for_each_mut<T: Send>(
+        &self,
+        work: usize,
+        items: &mut [T],
+        f: impl Fn(usize, &mut T) + Sync,
+    ) {
+        match self.pool_for(work) {
             None => items.iter_mut().enumerate().for_each(|(i, t)| f(i, t)),
             Some(pool) => {
                 pool.install(|| items.par_iter_mut().enumerate().for_each(|(i, t)| f(i, t)))
@@ -64,10 +79,11 @@ impl Executor {
     /// a pool.
     pub(crate) fn map_mut<T: Send, R: Send>(
         &self,
+        work: usize,
         items: &mut [T],
         f: impl Fn(usize, &mut T) -> R + Sync,
     ) -> Vec<R> {
-        match &self.pool {
+        match self.pool_for(work) {
             None => items.iter_mut().enumerate().map(|(i, t)| f(i, t)).collect(),
             Some(pool) => pool.install(|| {
                 items
@@ -86,17 +102,20 @@ impl Executor {
         items: &mut [T],
         key: impl Fn(&T) -> K + Sync + Send,
     ) {
-        match &self.pool {
-            Some(pool) if items.len() > 4 * CHUNK => {
-                pool.install(|| items.par_sort_unstable_by_key(key))
-            }
+        match self.pool_for(items.len()) {
+            Some(pool) => pool.install(|| items.par_sort_unstable_by_key(key)),
             _ => items.sort_unstable_by_key(key),
         }
     }
 
-    /// Calls `f(i)` for each index of `range`; in parallel when there is a pool.
-    pub(crate) fn for_each_index(&self, range: Range<usize>, f: impl Fn(usize) + Sync + Send) {
-        match &self.pool {
+    /// Calls `f(i)` for each index of `range`; in parallel as `for_each_mut`.
+    pub(crate) fn for_each_index(
+        &self,
+        work: usize,
+        range: Range<usize>,
+        f: impl Fn(usize) + Sync + Send,
+    ) {
+        match self.pool_for(work) {
             None => range.for_each(f),
             Some(pool) => pool.install(|| range.into_par_iter().for_each(f)),
         }
@@ -105,10 +124,11 @@ impl Executor {
     /// Maps each index of `range` to a value, in index order.
     pub(crate) fn map_index<T: Send>(
         &self,
+        work: usize,
         range: Range<usize>,
         f: impl Fn(usize) -> T + Sync + Send,
     ) -> Vec<T> {
-        match &self.pool {
+        match self.pool_for(work) {
             None => range.map(f).collect(),
             Some(pool) => pool.install(|| range.into_par_iter().map(f).collect()),
         }

@@ -275,7 +275,7 @@ impl Particles {
             .chunks_mut(GATHER_CHUNK)
             .zip(order.chunks(GATHER_CHUNK))
             .collect();
-        exec.for_each_mut(&mut chunks, |_, (slots, order)| {
+        exec.for_each_mut(order.len(), &mut chunks, |_, (slots, order)| {
             for (slot, &i) in slots.iter_mut().zip(order.iter()) {
                 *slot = source[i as usize].0;
             }
@@ -295,7 +295,7 @@ fn gather(v: &[f64], order: &[u32], out: &mut [f64], exec: &Executor) {
         .chunks_mut(GATHER_CHUNK)
         .zip(order.chunks(GATHER_CHUNK))
         .collect();
-    exec.for_each_mut(&mut chunks, |_, (slots, order)| {
+    exec.for_each_mut(order.len(), &mut chunks, |_, (slots, order)| {
         for (slot, &i) in slots.iter_mut().zip(order.iter()) {
             // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting sort),
             // checked in debug builds.

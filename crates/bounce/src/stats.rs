@@ -83,7 +83,7 @@ pub(crate) fn energy_and_momentum(
     exec: &Executor,
 ) -> (f64, [f64; 2]) {
     let n = p.len();
-    let partial = exec.map_index(0..n.div_ceil(CHUNK), |chunk| {
+    let partial = exec.map_index(n, 0..n.div_ceil(CHUNK), |chunk| {
         let (mut e, mut px, mut py) = (0.0, 0.0, 0.0);
         for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
             let m = mass_model.mass(p.radius[i], p.mass[i]);
