@@ -52,7 +52,7 @@ mod world;
 
 pub use boundary::WallImpulse;
 pub use config::{Boundary, Config, ConfigError, MassModel, RestitutionModel, VelocityUpdate};
-pub use parallel::ThreadsError;
+pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};
 pub use world::{StepError, World, WorldError};

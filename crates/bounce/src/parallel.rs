@@ -12,14 +12,25 @@ use rayon::prelude::*;
 /// chunk order, so floating-point sums do not depend on the thread count.
 pub(crate) const CHUNK: usize = 4096;
 
-/// Work below this size (about one unit per disc) runs on the calling thread: waking the
-/// pool costs more than it saves. Results never depend on where work runs.
-const PARALLEL_MIN_WORK: usize = 65_536;
+/// Work below this size (about one unit per disc) runs on the calling thread by default:
+/// waking the pool costs more than it saves. Results never depend on where work runs.
+pub const DEFAULT_PARALLEL_MIN_WORK: usize = 65_536;
 
 /// Where the step's work runs: the calling thread, or a rayon pool of a fixed size.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct Executor {
     pool: Option<rayon::ThreadPool>,
+    /// Work below this runs on the calling thread.
+    pub(crate) min_work: usize,
+}
+
+impl Default for Executor {
+    fn default() -> Self {
+        Executor {
+            pool: None,
+            min_work: DEFAULT_PARALLEL_MIN_WORK,
+        }
+    }
 }
 
 /// The thread pool could not be created.
@@ -36,7 +47,7 @@ impl Executor {
     /// An executor with `threads` workers; 0 or 1 runs everything on the calling thread.
     pub(crate) fn new(threads: usize) -> Result<Self, ThreadsError> {
         if threads <= 1 {
-            return Ok(Executor { pool: None });
+            return Ok(Executor::default());
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -46,7 +57,10 @@ impl Executor {
                 threads,
                 reason: e.to_string(),
             })?;
-        Ok(Executor { pool: Some(pool) })
+        Ok(Executor {
+            pool: Some(pool),
+            min_work: DEFAULT_PARALLEL_MIN_WORK,
+        })
     }
 
     /// Number of threads the work runs on.
@@ -56,7 +70,7 @@ impl Executor {
 
     /// The pool, when there is one and `work` is worth it.
     fn pool_for(&self, work: usize) -> Option<&rayon::ThreadPool> {
-        self.pool.as_ref().filter(|_| work >= PARALLEL_MIN_WORK)
+        self.pool.as_ref().filter(|_| work >= self.min_work)
     }
 
     /// Calls `f(i, item)` for each item; in parallel when there is a pool and `work` (about

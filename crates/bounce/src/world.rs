@@ -156,8 +156,18 @@ impl World {
     /// Runs `threads` worker threads for the step (1 = on the calling thread, the default).
     /// Results are bit-identical for every thread count.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
+        let min_work = self.exec.min_work;
         self.exec = Executor::new(threads)?;
+        self.exec.min_work = min_work;
         Ok(())
+    }
+
+    /// Work below `min_work` units (about one per disc, a few per contact) runs on the
+    /// calling thread even with worker threads: waking them costs more than small work saves.
+    /// The default is [`DEFAULT_PARALLEL_MIN_WORK`](crate::DEFAULT_PARALLEL_MIN_WORK); 0
+    /// runs every stage on the workers. Results never depend on it.
+    pub fn set_parallel_min_work(&mut self, min_work: usize) {
+        self.exec.min_work = min_work;
     }
 
     /// The number of worker threads the step uses.
@@ -506,6 +516,7 @@ mod tests {
             .add_particles(scene::gas(&gas, &config).unwrap())
             .unwrap();
         world.set_threads(threads).unwrap();
+        world.set_parallel_min_work(0);
         world
     }
 

@@ -24,6 +24,8 @@ fn polydisperse_world(threads: usize) -> World {
         9,
     );
     world.set_threads(threads).unwrap();
+    // Small worlds would otherwise run on one thread: make every stage use the workers.
+    world.set_parallel_min_work(0);
     world
 }
 
@@ -116,6 +118,7 @@ fn reference_gas_hash_is_fixed_for_every_thread_count() {
             1,
         );
         world.set_threads(threads).unwrap();
+        world.set_parallel_min_work(0);
         run(&mut world, 500);
         assert_eq!(
             world.state_hash(),
