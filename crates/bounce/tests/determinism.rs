@@ -128,3 +128,47 @@ fn reference_gas_hash_is_fixed_for_every_thread_count() {
         );
     }
 }
+
+#[test]
+fn a_dense_pile_resolves_in_parallel_with_the_serial_bits() {
+    // Thousands of contacts per substep: each colour is cut into many pieces that the
+    // workers resolve at once.
+    let pile = |threads: usize| {
+        let side = box_side(8000, 0.25, 0.35);
+        let config = Config {
+            boundary: Boundary::walls([0.0, 0.0], [side, side]),
+            gravity: [0.0, -9.81],
+            coefficient_of_restitution: 0.7,
+            substeps: 4,
+            ..Config::default()
+        };
+        let mut world = gas_world(
+            config,
+            8000,
+            [0.5, 0.5],
+            Speeds::Uniform(1.0),
+            [0.0, 0.0],
+            5,
+        );
+        world.set_threads(threads).unwrap();
+        world.set_parallel_min_work(0);
+        run(&mut world, 300);
+        world
+    };
+    let serial = pile(1);
+    // Settling: several pieces (of 256 contacts) per colour and substep.
+    assert!(
+        serial.stats().pairs > 4 * 4 * 1024,
+        "{} contacts",
+        serial.stats().pairs
+    );
+    for threads in [2, 4] {
+        let parallel = pile(threads);
+        assert_eq!(
+            parallel.state_hash(),
+            serial.state_hash(),
+            "{threads} threads"
+        );
+        assert_eq!(parallel.stats(), serial.stats(), "{threads} threads");
+    }
+}
