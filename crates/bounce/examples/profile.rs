@@ -1,5 +1,5 @@
-//! Per-stage time of the gas scene:
-//! `cargo run --release --example profile [COUNT] [THREADS] [STEPS]`.
+//! Per-stage time of the benchmark scenes:
+//! `cargo run --release --example profile [COUNT] [THREADS] [STEPS] [gas|pile|poly]`.
 
 use bounce::scene::{self, Speeds};
 use bounce::{StepProfile, World};
@@ -12,13 +12,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?
         .unwrap_or(1_000_000);
     let threads: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(1);
-    let (config, discs) = scene::gas_in_walls(count, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1)?;
+    let steps: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(20);
+    let kind = args.next().unwrap_or_else(|| "gas".into());
+    let radius = if kind == "poly" {
+        [0.1, 2.5]
+    } else {
+        [0.5, 0.5]
+    };
+    let (mut config, discs) = scene::gas_in_walls(count, radius, 0.3, Speeds::Uniform(2.0), 1)?;
+    if kind == "pile" {
+        config.gravity = [0.0, -9.81];
+        config.coefficient_of_restitution = 0.7;
+        config.substeps = 4;
+    }
     let mut world = World::new(config)?;
     world
         .add_particles(discs)
         .map_err(|(i, e)| format!("{i}: {e}"))?;
     world.set_threads(threads)?;
-    let steps: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(20);
     let mut sum = StepProfile::default();
     let mut totals = Vec::new();
     let mut pairs = 0;
@@ -41,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ms = |s: f64| s * 1e3 / steps as f64;
     totals.sort_by(f64::total_cmp);
     println!(
-        "{count} discs, {threads} threads, {} colliding pairs per step, {rebuilds} rebuilds in {steps} steps, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
+        "{kind} {count} discs, {threads} threads, {} colliding pairs per step, {rebuilds} rebuilds in {steps} steps, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
         pairs / steps,
         totals[steps / 2] * 1e3,
         ms(sum.integrate),

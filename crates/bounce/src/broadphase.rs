@@ -22,11 +22,12 @@
 //! span 0.1 to 5. Instead each disc gets a *level* by its interaction diameter `d`:
 //! level `k` holds `d_min 2^k < d <= d_min 2^(k+1)` (level 0 includes `d_min`), and each
 //! non-empty level has its own grid sized for its largest disc. A disc meets discs of its own
-//! level through the 3×3 stencil, and discs of finer levels by scanning the finer grid's cells
-//! under its reach. Cost stays proportional to the area actually covered, whatever the mix.
+//! level through the 3×3 stencil, and discs of each coarser level through the at most 3×3
+//! cells of that grid under its reach (coarser cells are at least that reach). Cost stays
+//! proportional to the number of discs, whatever the mix.
 //!
 //! # Ownership and blocks
-//! Each candidate pair is listed once, by one cell: the cell of the coarser disc, or for discs
+//! Each candidate pair is listed once, by one cell: the cell of the finer disc, or for discs
 //! of one level, the cell visited first by the forward half-stencil. Cells are grouped into
 //! blocks of whole rows, about a thousand discs each: the units of parallel work, each one
 //! run of storage, so candidates are listed and later tested in storage order.
@@ -771,7 +772,9 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
     /// All candidates listed by the cells of `block`.
     fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) {
         let g = &self.levels[block.level];
-        let finer = &self.levels[..block.level];
+        // Pairs across levels are listed by the finer disc: a coarser grid's cells are at
+        // least the reach, so it scans at most 3×3 of them.
+        let coarser = &self.levels[block.level + 1..];
         // Discs of one level are at most its largest radius.
         let own_cut = 2.0 * g.max_radius * self.scale + self.margin;
         let own_cut2 = own_cut * own_cut;
@@ -792,8 +795,8 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
                     for a in own.clone() {
                         self.test(a, a + 1..first_end, own_cut2, out);
                         self.test(a, upper.clone(), own_cut2, out);
-                        for fine in finer {
-                            self.scan_finer(a, fine, out);
+                        for level in coarser {
+                            self.scan_level(a, level, out);
                         }
                     }
                     continue;
@@ -828,28 +831,28 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
                     for range in &ranges[1..count] {
                         self.test(a, range.clone(), own_cut2, out);
                     }
-                    // Finer levels: every cell under this disc's reach.
-                    for fine in finer {
-                        self.scan_finer(a, fine, out);
+                    // Coarser levels: every cell under this disc's reach.
+                    for level in coarser {
+                        self.scan_level(a, level, out);
                     }
                 }
             }
         }
     }
 
-    /// Lists disc `a` with the discs of a finer level's grid within its reach.
-    fn scan_finer(&self, a: usize, fine: &LevelGrid, out: &mut Vec<Pair>) {
-        let reach = (self.radius[a] + fine.max_radius) * self.scale + self.margin;
+    /// Lists disc `a` with the discs of another level's grid within its reach.
+    fn scan_level(&self, a: usize, grid: &LevelGrid, out: &mut Vec<Pair>) {
+        let reach = (self.radius[a] + grid.max_radius) * self.scale + self.margin;
         let pos = [self.x[a], self.y[a]];
         // The cells under the reach along one axis: a first cell and a count (wrapping in a
         // periodic grid).
         let span = |axis: usize| -> (isize, usize) {
-            let lo = floor_to_isize((pos[axis] - reach - fine.origin[axis]) * fine.inv_cell[axis]);
-            let hi = floor_to_isize((pos[axis] + reach - fine.origin[axis]) * fine.inv_cell[axis]);
-            let n = fine.n[axis] as isize;
+            let lo = floor_to_isize((pos[axis] - reach - grid.origin[axis]) * grid.inv_cell[axis]);
+            let hi = floor_to_isize((pos[axis] + reach - grid.origin[axis]) * grid.inv_cell[axis]);
+            let n = grid.n[axis] as isize;
             // Far beyond any grid (cells per axis are capped at 10^6), and fits 32-bit isize.
             let (lo, hi) = (lo.max(-(1 << 28)), hi.min(1 << 28));
-            if fine.wrap {
+            if grid.wrap {
                 if hi - lo + 1 >= n {
                     (0, n as usize)
                 } else {
@@ -863,7 +866,7 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
         };
         let (x_first, x_count) = span(0);
         let (y_first, y_count) = span(1);
-        let (nx, ny) = (fine.n[0] as isize, fine.n[1] as isize);
+        let (nx, ny) = (grid.n[0] as isize, grid.n[1] as isize);
         for k in 0..y_count as isize {
             let cy = ((y_first + k) % ny) as usize;
             // The row's cells are contiguous in memory: one range, or two where it wraps.
@@ -872,8 +875,8 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
             let runs = [first_run, (0, (end - nx - 1).max(-1) as usize)];
             let wrapped = end > nx;
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
-                let range = self.cell_start[fine.cell_index(c0, cy)] as usize
-                    ..self.cell_start[fine.cell_index(c1, cy) + 1] as usize;
+                let range = self.cell_start[grid.cell_index(c0, cy)] as usize
+                    ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
                 self.test(a, range, reach * reach, out);
             }
         }
