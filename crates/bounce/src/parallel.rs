@@ -185,6 +185,12 @@ impl<'a, T: Copy> SharedSlice<'a, T> {
         unsafe { *self.ptr.add(i) }
     }
 
+    /// Where index `i` is, for [`prefetch`] (not dereferenced).
+    #[inline(always)]
+    pub(crate) fn address(&self, i: usize) -> *const T {
+        self.ptr.wrapping_add(i)
+    }
+
     /// Writes index `i`.
     ///
     /// # Safety
@@ -195,4 +201,18 @@ impl<'a, T: Copy> SharedSlice<'a, T> {
         // SAFETY: in bounds and exclusively accessed, by the caller's promise.
         unsafe { *self.ptr.add(i) = value }
     }
+}
+
+/// Asks the CPU to start loading the cache line of `*ptr` (x86-64; a no-op elsewhere). Never
+/// faults, whatever `ptr` is.
+#[inline(always)]
+pub(crate) fn prefetch<T>(ptr: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch is a hint; it does not access memory architecturally.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(ptr.cast::<i8>()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = ptr;
 }

@@ -9,7 +9,10 @@ use crate::broadphase::Periodicity;
 use crate::collision::{Body, ResolveParams, resolve_pair};
 use crate::config::Config;
 use crate::contacts::Contacts;
-use crate::parallel::{Executor, SharedSlice};
+use crate::parallel::{Executor, SharedSlice, prefetch};
+
+/// How many contacts ahead the solver asks for the discs' cache lines.
+const PREFETCH_AHEAD: usize = 8;
 use crate::particles::Particles;
 
 /// Resolves every contact found by the last `Contacts::find`, colour by colour.
@@ -38,7 +41,18 @@ pub(crate) fn resolve_all(
         let pieces = &contacts.pieces[phase.clone()];
         let work = 4 * (pieces.last().map_or(0, |p| p.end) - pieces.first().map_or(0, |p| p.start));
         exec.for_each_index(work, phase.clone(), |piece| {
-            for contact in &contacts.list[contacts.pieces[piece].clone()] {
+            let list = &contacts.list[contacts.pieces[piece].clone()];
+            for (k, contact) in list.iter().enumerate() {
+                // Contacts touch scattered discs: start loading a later contact's discs now.
+                if let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
+                    for i in [ahead.a as usize, ahead.b as usize] {
+                        prefetch(x.address(i));
+                        prefetch(y.address(i));
+                        prefetch(vx.address(i));
+                        prefetch(vy.address(i));
+                        prefetch(radius.as_ptr().wrapping_add(i));
+                    }
+                }
                 let (a, b) = (contact.a as usize, contact.b as usize);
                 // SAFETY: the contacts of one piece touch discs in its blocks' cells and their
                 // one-cell ring; pieces of one colour hold whole blocks of that colour, which
