@@ -197,6 +197,8 @@ pub(crate) struct Broadphase {
     count: usize,
     /// The largest radius at the last rebuild.
     max_radius: f64,
+    /// Whether every disc had the same radius at the last rebuild.
+    uniform_radius: bool,
     // Scratch reused between rebuilds (the cell keys live in `scratch`).
     order: Vec<u32>,
     /// Per-disc level; empty when all discs share level 0.
@@ -286,6 +288,11 @@ impl Broadphase {
     /// The largest radius at the last rebuild: what the contact order's grid is sized for.
     pub(crate) fn max_radius(&self) -> f64 {
         self.max_radius
+    }
+
+    /// The radius of every disc, when all are equal (as at the last listing).
+    pub(crate) fn uniform_radius(&self) -> Option<f64> {
+        (self.listed && self.uniform_radius).then_some(self.max_radius)
     }
 
     /// How many discs the candidates were listed for, if they are listed.
@@ -432,6 +439,7 @@ impl Broadphase {
             (lo.min(r), hi.max(r))
         });
         self.max_radius = r_max;
+        self.uniform_radius = r_min == r_max;
         let d_min = 2.0 * r_min * s;
         let single_level = level_of(2.0 * r_max * s, d_min) == 0;
         let mut used = Vec::new();

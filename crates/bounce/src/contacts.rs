@@ -91,30 +91,25 @@ impl Contacts {
         );
         // About one unit of work per candidate.
         let work = candidates.iter().map(Vec::len).sum();
-        let overlaps = match periodicity {
-            _ if !periodicity.is_periodic() => {
-                exec.map_mut(work, &mut self.found, |block, found| {
-                    test(
-                        &candidates[block],
-                        p,
-                        scale,
-                        &grid,
-                        found,
-                        |x1, y1, x2, y2| [x1 - x2, y1 - y2],
-                    )
-                })
+        // One loop per case, so the common ones (no minimum image; all radii equal, when the
+        // collision distance is one constant with the same bits) do no extra work.
+        let periodic = periodicity.is_periodic();
+        let uniform = broadphase.uniform_radius();
+        let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
+        let image = |x1, y1, x2, y2| periodicity.diff(x1, y1, x2, y2);
+        let overlaps = exec.map_mut(work, &mut self.found, |block, found| {
+            let (pairs, grid) = (&candidates[block], &grid);
+            match (periodic, uniform) {
+                (false, Some(r)) => test(pairs, p, grid, found, plain, |_, _| (r + r) * scale),
+                (true, Some(r)) => test(pairs, p, grid, found, image, |_, _| (r + r) * scale),
+                (false, None) => test(pairs, p, grid, found, plain, |i, j| {
+                    (p.radius[i] + p.radius[j]) * scale
+                }),
+                (true, None) => test(pairs, p, grid, found, image, |i, j| {
+                    (p.radius[i] + p.radius[j]) * scale
+                }),
             }
-            periodic => exec.map_mut(work, &mut self.found, |block, found| {
-                test(
-                    &candidates[block],
-                    p,
-                    scale,
-                    &grid,
-                    found,
-                    |x1, y1, x2, y2| periodic.diff(x1, y1, x2, y2),
-                )
-            }),
-        };
+        });
 
         self.list.clear();
         for found in &self.found {
@@ -172,37 +167,36 @@ impl Contacts {
 }
 
 /// Tests candidate pairs with the seed's rule, writing contacts to `found`; returns the
-/// largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box).
+/// largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box) and `reach` the
+/// collision distance of a pair.
 #[inline(always)]
 fn test(
     candidates: &[Pair],
     p: &Particles,
-    scale: f64,
     grid: &OrderGrid,
     found: &mut Vec<Contact>,
     diff: impl Fn(f64, f64, f64, f64) -> [f64; 2],
+    reach: impl Fn(usize, usize) -> f64,
 ) -> f64 {
     found.clear();
     let mut max_overlap = 0.0f64;
-    let (x, y, radius) = (&p.x[..], &p.y[..], &p.radius[..]);
+    let (x, y) = (&p.x[..], &p.y[..]);
     for &[i, j] in candidates {
         let (i, j) = (i as usize, j as usize);
         debug_assert!(i < x.len() && j < x.len());
         // SAFETY: candidates index the current storage (checked by the caller), and every
         // particle array has the same length.
-        let (xi, yi, ri, xj, yj, rj) = unsafe {
+        let (xi, yi, xj, yj) = unsafe {
             (
                 *x.get_unchecked(i),
                 *y.get_unchecked(i),
-                *radius.get_unchecked(i),
                 *x.get_unchecked(j),
                 *y.get_unchecked(j),
-                *radius.get_unchecked(j),
             )
         };
         let [dx, dy] = diff(xi, yi, xj, yj);
         let d2 = dx * dx + dy * dy;
-        let reach = (ri + rj) * scale;
+        let reach = reach(i, j);
         // A cheap squared early-out with a margin, then the seed's exact test on the
         // distance itself (so rounding matches `collision::is_colliding`).
         if d2 <= reach * reach * (1.0 + 1e-12) {
