@@ -321,7 +321,10 @@ impl PermuteScratch {
     /// The scratch as at least `n` `u32`s (contents unspecified): the broadphase sorts its
     /// cell keys here, so no array of its own is needed.
     pub(crate) fn u32s(&mut self, n: usize) -> &mut [u32] {
-        self.f64.resize(n.div_ceil(2), 0.0);
+        // Grow only: shrinking would make the next `f64s` fill the tail again.
+        if self.f64.len() < n.div_ceil(2) {
+            self.f64.resize(n.div_ceil(2), 0.0);
+        }
         &mut bytemuck::cast_slice_mut(&mut self.f64[..])[..n]
     }
 }
