@@ -36,6 +36,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Draws bench.png again from a saved bench.csv.
+    Plot { csv: PathBuf, png: PathBuf },
     /// Runs one engine on one scene and prints one result line (used by the parent).
     One {
         engine: String,
@@ -62,13 +64,14 @@ struct Row {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
-    if let Some(Cmd::One {
-        engine,
-        scene,
-        quick,
-    }) = cli.command
-    {
-        return one(&engine, &scene, quick);
+    match cli.command {
+        Some(Cmd::One {
+            engine,
+            scene,
+            quick,
+        }) => return one(&engine, &scene, quick),
+        Some(Cmd::Plot { csv, png }) => return plot(&read_csv(&csv)?, &png),
+        None => {}
     }
     let scenes: Vec<SceneKind> = if cli.scenes.is_empty() {
         SceneKind::ALL.to_vec()
@@ -248,6 +251,33 @@ fn print_table(rows: &[Row], scenes: &[SceneKind]) {
     }
 }
 
+/// Rows from a `bench.csv` written by [`write_csv`].
+fn read_csv(path: &std::path::Path) -> Result<Vec<Row>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let number =
+        |v: &str| -> Result<Option<f64>> { Ok(if v.is_empty() { None } else { Some(v.parse()?) }) };
+    text.lines()
+        .skip(1)
+        .enumerate()
+        .map(|(k, line)| {
+            let f: Vec<&str> = line.split(',').collect();
+            let [scene, n, engine, median, mean, peak] = f[..] else {
+                bail!("{}: line {}: expected 6 fields", path.display(), k + 2);
+            };
+            Ok(Row {
+                scene: scene.to_string(),
+                n: n.parse()?,
+                engine: engine.to_string(),
+                median_ms: number(median)?,
+                mean_ms: number(mean)?,
+                peak_mb: number(peak)?.unwrap_or(f64::NAN),
+                note: String::new(),
+            })
+        })
+        .collect()
+}
+
 fn write_csv(rows: &[Row], path: &std::path::Path) -> Result<()> {
     let mut text = String::from("scene,n,engine,median_ms,mean_ms,peak_mb\n");
     for r in rows {
@@ -271,7 +301,13 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
         .map_err(|_| anyhow::anyhow!("cannot load the font"))?;
     let gas: Vec<&Row> = rows.iter().filter(|r| r.scene.starts_with("gas")).collect();
     let ns = |r: &Row| r.median_ms.map(|ms| ms * 1e6 / r.n as f64);
-    let hi = gas.iter().filter_map(|r| ns(r)).fold(1.0, f64::max) * 2.0;
+    let mean_ns = |r: &Row| r.mean_ms.map(|ms| ms * 1e6 / r.n as f64);
+    let hi = gas
+        .iter()
+        .flat_map(|r| [ns(r), mean_ns(r)])
+        .flatten()
+        .fold(1.0, f64::max)
+        * 2.0;
     let lo = gas
         .iter()
         .filter_map(|r| ns(r))
@@ -285,7 +321,7 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
         root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e:?}"))?;
         let mut chart = ChartBuilder::on(&root)
             .caption(
-                "gas: ns per particle-step (lower is better)",
+                "gas: ns per particle-step, median (solid) and mean (dashed)",
                 ("sans-serif", 22),
             )
             .margin(16)
@@ -321,6 +357,14 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
                         .into_iter()
                         .map(|p| Circle::new(p, 5, colour.filled())),
                 )
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            let means: Vec<(f64, f64)> = gas
+                .iter()
+                .filter(|r| r.engine == engine.name())
+                .filter_map(|r| Some((r.n as f64, mean_ns(r)?)))
+                .collect();
+            chart
+                .draw_series(DashedLineSeries::new(means, 8, 6, colour.stroke_width(2)))
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
         }
         chart
