@@ -662,32 +662,22 @@ impl Broadphase {
         let blocks = &self.blocks;
         let (levels, cell_start) = (&self.levels[..], &self.cell_start[..]);
         let scale = config.collision_radius_scale;
+        let ctx = Context {
+            x,
+            y,
+            radius,
+            levels,
+            cell_start,
+            scale,
+            margin,
+            periodicity,
+        };
         exec.for_each_mut(x.len(), &mut self.candidates, |b, pairs| {
             pairs.clear();
             if periodicity.is_periodic() {
-                Context::<true> {
-                    x,
-                    y,
-                    radius,
-                    levels,
-                    cell_start,
-                    scale,
-                    margin,
-                    periodicity,
-                }
-                .block_pairs(&blocks[b], pairs);
+                ctx.block_pairs::<true>(&blocks[b], pairs);
             } else {
-                Context::<false> {
-                    x,
-                    y,
-                    radius,
-                    levels,
-                    cell_start,
-                    scale,
-                    margin,
-                    periodicity,
-                }
-                .block_pairs(&blocks[b], pairs);
+                ctx.block_pairs::<false>(&blocks[b], pairs);
             }
             // A list kept from a larger block of an earlier grid gives back its excess.
             if pairs.capacity() > 2 * pairs.len() + 1024 {
@@ -723,9 +713,9 @@ fn interior(g: &LevelGrid, cx: usize, cy: usize) -> bool {
     g.forward.len() == 4 && cx >= 1 && cx + 1 < g.n[0] && cy + 1 < g.n[1]
 }
 
-/// Read-only view the candidate search of one block needs; `PERIODIC` picks the minimum
-/// image at compile time.
-struct Context<'a, const PERIODIC: bool> {
+/// Read-only view the candidate search of one block needs. Its methods' `PERIODIC` picks
+/// the minimum image at compile time.
+struct Context<'a> {
     x: &'a [f64],
     y: &'a [f64],
     radius: &'a [f64],
@@ -737,7 +727,7 @@ struct Context<'a, const PERIODIC: bool> {
     periodicity: Periodicity,
 }
 
-impl<const PERIODIC: bool> Context<'_, PERIODIC> {
+impl Context<'_> {
     #[inline]
     fn cell_range(&self, cell: usize) -> Range<usize> {
         self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
@@ -747,7 +737,13 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
     /// collision distance plus the margin of every pair tested, so each list is a superset
     /// and one constant serves a whole run.
     #[inline(always)]
-    fn test(&self, a: usize, others: Range<usize>, cut2: f64, out: &mut Vec<Pair>) {
+    fn test<const PERIODIC: bool>(
+        &self,
+        a: usize,
+        others: Range<usize>,
+        cut2: f64,
+        out: &mut Vec<Pair>,
+    ) {
         let (xa, ya) = (self.x[a], self.y[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
@@ -778,7 +774,7 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
     }
 
     /// All candidates listed by the cells of `block`.
-    fn block_pairs(&self, block: &Block, out: &mut Vec<Pair>) {
+    fn block_pairs<const PERIODIC: bool>(&self, block: &Block, out: &mut Vec<Pair>) {
         let g = &self.levels[block.level];
         // Pairs across levels are listed by the finer disc: a coarser grid's cells are at
         // least the reach, so it scans at most 3×3 of them.
@@ -801,10 +797,10 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
                     let upper =
                         self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
                     for a in own.clone() {
-                        self.test(a, a + 1..first_end, own_cut2, out);
-                        self.test(a, upper.clone(), own_cut2, out);
+                        self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
+                        self.test::<PERIODIC>(a, upper.clone(), own_cut2, out);
                         for level in coarser {
-                            self.scan_level(a, level, out);
+                            self.scan_level::<PERIODIC>(a, level, out);
                         }
                     }
                     continue;
@@ -835,13 +831,13 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
                 let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test(a, a + 1..first_end, own_cut2, out);
+                    self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
                     for range in &ranges[1..count] {
-                        self.test(a, range.clone(), own_cut2, out);
+                        self.test::<PERIODIC>(a, range.clone(), own_cut2, out);
                     }
                     // Coarser levels: every cell under this disc's reach.
                     for level in coarser {
-                        self.scan_level(a, level, out);
+                        self.scan_level::<PERIODIC>(a, level, out);
                     }
                 }
             }
@@ -849,7 +845,7 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
     }
 
     /// Lists disc `a` with the discs of another level's grid within its reach.
-    fn scan_level(&self, a: usize, grid: &LevelGrid, out: &mut Vec<Pair>) {
+    fn scan_level<const PERIODIC: bool>(&self, a: usize, grid: &LevelGrid, out: &mut Vec<Pair>) {
         let reach = (self.radius[a] + grid.max_radius) * self.scale + self.margin;
         let pos = [self.x[a], self.y[a]];
         // The cells under the reach along one axis: a first cell and a count (wrapping in a
@@ -885,7 +881,7 @@ impl<const PERIODIC: bool> Context<'_, PERIODIC> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[grid.cell_index(c0, cy)] as usize
                     ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
-                self.test(a, range, reach * reach, out);
+                self.test::<PERIODIC>(a, range, reach * reach, out);
             }
         }
     }

@@ -1,8 +1,9 @@
 //! Particle storage: the hot state as struct-of-arrays of `f64`, plus stable ids.
 //!
-//! The step keeps the arrays sorted by grid cell (see `broadphase`), so a particle's index
-//! changes from step to step; its [`ParticleId`] never does. Everything a step reads or writes
-//! per particle lives here and nowhere else, so a checkpoint is this struct plus the config.
+//! The broadphase keeps the arrays sorted by grid cell (reordering them at each rebuild), so a
+//! particle's index changes now and then; its [`ParticleId`] never does. Everything a step
+//! reads or writes per particle lives here; a checkpoint is this struct, the config and the
+//! broadphase's reference positions.
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -266,20 +267,11 @@ impl Particles {
             &mut self.mass,
         ] {
             let out = scratch.f64s(n);
-            gather(v, order, out, exec);
+            gather(v, order, out, exec, |&v| v);
             std::mem::swap(v, &mut scratch.f64);
         }
         let out = scratch.u32s(n);
-        let source: &[ParticleId] = &self.id;
-        let mut chunks: Vec<_> = out
-            .chunks_mut(GATHER_CHUNK)
-            .zip(order.chunks(GATHER_CHUNK))
-            .collect();
-        exec.for_each_mut(order.len(), &mut chunks, |_, (slots, order)| {
-            for (slot, &i) in slots.iter_mut().zip(order.iter()) {
-                *slot = source[i as usize].0;
-            }
-        });
+        gather(&self.id, order, out, exec, |id| id.0);
         for (id, &v) in self.id.iter_mut().zip(out.iter()) {
             *id = ParticleId(v);
         }
@@ -289,8 +281,14 @@ impl Particles {
 /// Discs per parallel piece of a gather.
 const GATHER_CHUNK: usize = 16 * CHUNK;
 
-/// `out[k] = v[order[k]]`, in parallel chunks.
-fn gather(v: &[f64], order: &[u32], out: &mut [f64], exec: &Executor) {
+/// `out[k] = f(v[order[k]])`, in parallel chunks.
+fn gather<S: Sync, T: Send>(
+    v: &[S],
+    order: &[u32],
+    out: &mut [T],
+    exec: &Executor,
+    f: impl Fn(&S) -> T + Sync,
+) {
     let mut chunks: Vec<_> = out
         .chunks_mut(GATHER_CHUNK)
         .zip(order.chunks(GATHER_CHUNK))
@@ -300,7 +298,7 @@ fn gather(v: &[f64], order: &[u32], out: &mut [f64], exec: &Executor) {
             // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting sort),
             // checked in debug builds.
             debug_assert!((i as usize) < v.len());
-            *slot = unsafe { *v.get_unchecked(i as usize) };
+            *slot = f(unsafe { v.get_unchecked(i as usize) });
         }
     });
 }

@@ -1,7 +1,8 @@
 //! The world: configuration, particles, and the step that ties the stages together.
 //!
-//! One step is `substeps` times: integrate (with the boundary) → bin into the grids →
-//! find the colliding pairs → resolve them in canonical order; then measure. Inputs are
+//! One step is `substeps` times: integrate (with the boundary and the displacement check) →
+//! keep or rebuild the candidate list → find the colliding pairs among the candidates →
+//! resolve them in canonical order; then measure. Inputs are
 //! validated at the edges (`new`, `add_particle`, `set_config`, loading a checkpoint), so the
 //! step itself cannot fail for any state reachable through this API.
 
