@@ -9,6 +9,17 @@ import { join } from "node:path";
 const [url, screenshot, mode] = process.argv.slice(2);
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const stepOf = (status) => Number(/step (\d+)/.exec(status)[1]);
+// Waits (up to a minute: a cold headless Chromium renders the first frames slowly) until the
+// status of `window[api]` says the simulation is past step `n`.
+const pastStep = (page, api, n) =>
+  page.waitForFunction(
+    ({ api, n }) => {
+      // The viewer's status throws until its first frame has built the app.
+      try { return Number(/step (\d+)/.exec(window[api].status())[1]) > n; } catch { return false; }
+    },
+    { api, n },
+    { timeout: 60000 },
+  );
 
 const context = await chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), "bounce-chromium-")), {
   executablePath: "/usr/bin/chromium",
@@ -28,21 +39,23 @@ try {
   if (mode === "webgl") {
     await page.goto(`${url}/index.html?scenario=gas`);
     await page.waitForFunction(() => window.bounce !== undefined, null, { timeout: 90000 });
-    await sleep(2000);
+    // Frames advance the simulation (how fast depends on the machine, not asserted).
+    await pastStep(page, "bounce", 5);
     result.running = await page.evaluate(() => window.bounce.status());
     await page.screenshot({ path: screenshot });
     result.buttons = await page.evaluate(() => window.bounce.buttons());
     const [, px, py, , sx, sy] = result.buttons.split(" ").map(Number);
-    await page.mouse.click(px, py); // pause
-    await sleep(500);
+    await page.mouse.click(px, py); // pause: takes effect at the next frame
+    await page.waitForFunction(() => / running false/.test(window.bounce.status()), null, { timeout: 60000 });
     result.paused_a = await page.evaluate(() => window.bounce.status());
     await sleep(700);
     result.paused_b = await page.evaluate(() => window.bounce.status());
     await page.mouse.click(sx, sy); // one step
+    await pastStep(page, "bounce", stepOf(result.paused_b));
     await sleep(500);
     result.stepped = await page.evaluate(() => window.bounce.status());
     await page.mouse.click(px, py); // play again
-    await sleep(1000);
+    await pastStep(page, "bounce", stepOf(result.stepped) + 2);
     result.resumed = await page.evaluate(() => window.bounce.status());
     await page.evaluate(() => window.bounce.open_builtin("gas"));
     result.hash_100 = await page.evaluate(() => window.bounce.run_to(100));
@@ -58,7 +71,7 @@ try {
   } else {
     await page.goto(`${url}/index.html?scenario=gas&no-webgl`);
     await page.waitForFunction(() => window.bounceFallback !== undefined, null, { timeout: 90000 });
-    await sleep(1500);
+    await pastStep(page, "bounceFallback", 5);
     result.running = await page.evaluate(() => window.bounceFallback.status());
     await page.screenshot({ path: screenshot });
     await page.click("#play");
@@ -70,7 +83,7 @@ try {
     await sleep(300);
     result.stepped = await page.evaluate(() => window.bounceFallback.status());
     await page.click("#play");
-    await sleep(800);
+    await pastStep(page, "bounceFallback", stepOf(result.stepped) + 2);
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
   }
