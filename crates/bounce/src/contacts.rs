@@ -1,13 +1,13 @@
 //! Contacts: the pairs that collide in one substep, and the canonical order they are resolved
 //! in.
 //!
-//! Detection applies the seed's test, `distance <= (r_i + r_j) collision_radius_scale`, to
-//! the broadphase's candidates. The order of resolution then depends on the current state
+//! Detection applies the law's test (the seed's `distance <= collision_distance`) to the
+//! broadphase's candidates. The order of resolution then depends on the current state
 //! alone, never on the candidates, their age, the storage order or the thread count:
 //!
-//! - An *order grid* of cells at least `1.01 d_max` wide (`d_max = 2 r_max
-//!   collision_radius_scale`, the largest collision distance) is laid over the world, fixed by
-//!   the configuration and the largest radius. Cells are paired into blocks two cells wide,
+//! - An *order grid* of cells at least `1.01 d_max` wide (`d_max` the largest collision
+//!   distance, the law's interaction diameter of the largest disc) is laid over the world,
+//!   fixed by the configuration and the largest radius. Cells are paired into blocks two cells wide,
 //!   and blocks are coloured 2×2 by the parity of their coordinates.
 //! - A contact is written with the lower id first, and belongs to the block of that disc.
 //!   Its partner is within `d_max`, so in the same cell or the next: a block's contacts touch
@@ -21,10 +21,11 @@
 
 use std::ops::Range;
 
-use crate::broadphase::{Broadphase, Pair, Periodicity, floor_to_isize, ordered};
-use crate::config::{Boundary, Config};
-use crate::parallel::Executor;
-use crate::particles::{ParticleId, Particles};
+use crate::broadphase::{Broadphase, Pair, floor_to_isize};
+use crate::context::StepContext;
+use crate::geometry::{Geometry, OrderAxisFrame};
+use crate::law::Law;
+use crate::particles::{ParticleId, Particles, ordered};
 
 /// Order-grid cells are this much wider than the largest collision distance.
 const CELL_MARGIN: f64 = 1.01;
@@ -73,12 +74,11 @@ impl Contacts {
         &mut self,
         broadphase: &Broadphase,
         p: &Particles,
-        config: &Config,
-        exec: &Executor,
+        ctx: &StepContext,
     ) -> Detection {
-        let grid = OrderGrid::new(config, broadphase.max_radius());
-        let scale = config.collision_radius_scale;
-        let periodicity = Periodicity::of(config);
+        let grid = OrderGrid::new(&ctx.geometry, &ctx.law, broadphase.max_radius());
+        let law = ctx.law;
+        let min_image = ctx.geometry.min_image();
         let candidates = &broadphase.candidates;
         self.found.resize_with(candidates.len(), Vec::new);
         self.found.truncate(candidates.len());
@@ -93,21 +93,28 @@ impl Contacts {
         let work = candidates.iter().map(Vec::len).sum();
         // One loop per case, so the common ones (no minimum image; all radii equal, when the
         // collision distance is one constant with the same bits) do no extra work.
-        let periodic = periodicity.is_periodic();
+        let periodic = min_image.is_periodic();
         let uniform = broadphase.uniform_radius();
         let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
-        let image = |x1, y1, x2, y2| periodicity.diff(x1, y1, x2, y2);
-        let overlaps = exec.map_mut(work, &mut self.found, |block, found| {
+        let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
+        let pair = |i: usize, j: usize| law.collision_distance(p.radius[i], p.radius[j]);
+        let overlaps = ctx.exec.map_mut(work, &mut self.found, |block, found| {
             let (pairs, grid) = (&candidates[block], &grid);
-            match (periodic, uniform) {
-                (false, Some(r)) => test(pairs, p, grid, found, plain, |_, _| (r + r) * scale),
-                (true, Some(r)) => test(pairs, p, grid, found, image, |_, _| (r + r) * scale),
-                (false, None) => test(pairs, p, grid, found, plain, |i, j| {
-                    (p.radius[i] + p.radius[j]) * scale
-                }),
-                (true, None) => test(pairs, p, grid, found, image, |i, j| {
-                    (p.radius[i] + p.radius[j]) * scale
-                }),
+            // SAFETY: every candidate indexes the current storage of `p` (asserted above:
+            // the list was made for exactly these discs).
+            unsafe {
+                match (periodic, uniform) {
+                    (false, Some(r)) => {
+                        let d = law.collision_distance(r, r);
+                        test(pairs, p, grid, found, plain, |_, _| d)
+                    }
+                    (true, Some(r)) => {
+                        let d = law.collision_distance(r, r);
+                        test(pairs, p, grid, found, image, |_, _| d)
+                    }
+                    (false, None) => test(pairs, p, grid, found, plain, pair),
+                    (true, None) => test(pairs, p, grid, found, image, pair),
+                }
             }
         });
 
@@ -116,7 +123,8 @@ impl Contacts {
             self.list.extend_from_slice(found);
         }
         // Keys with ids are unique, so every sort gives the same order.
-        exec.sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
+        ctx.exec
+            .sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
         self.split();
         Detection {
             pairs: self.list.len(),
@@ -169,8 +177,11 @@ impl Contacts {
 /// Tests candidate pairs with the seed's rule, writing contacts to `found`; returns the
 /// largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box) and `reach` the
 /// collision distance of a pair.
+///
+/// # Safety
+/// Every index in `candidates` is below `p.len()`.
 #[inline(always)]
-fn test(
+unsafe fn test(
     candidates: &[Pair],
     p: &Particles,
     grid: &OrderGrid,
@@ -184,8 +195,7 @@ fn test(
     for &[i, j] in candidates {
         let (i, j) = (i as usize, j as usize);
         debug_assert!(i < x.len() && j < x.len());
-        // SAFETY: candidates index the current storage (checked by the caller), and every
-        // particle array has the same length.
+        // SAFETY: in bounds by the caller's promise; every particle array has `p.len()`.
         let (xi, yi, xj, yj) = unsafe {
             (
                 *x.get_unchecked(i),
@@ -198,7 +208,7 @@ fn test(
         let d2 = dx * dx + dy * dy;
         let reach = reach(i, j);
         // A cheap squared early-out with a margin, then the seed's exact test on the
-        // distance itself (so rounding matches `collision::is_colliding`).
+        // distance itself (so rounding matches `Law::is_colliding`).
         if d2 <= reach * reach * (1.0 + 1e-12) {
             let distance = d2.sqrt();
             if distance <= reach {
@@ -250,11 +260,14 @@ impl OrderAxis {
 struct OrderGrid([OrderAxis; 2]);
 
 impl OrderGrid {
-    fn new(config: &Config, max_radius: f64) -> Self {
-        let cell = CELL_MARGIN * 2.0 * max_radius * config.collision_radius_scale;
-        OrderGrid([0, 1].map(|axis| match config.boundary {
-            Boundary::Periodic { min, max } => {
-                let width = max[axis] - min[axis];
+    fn new(geometry: &Geometry, law: &Law, max_radius: f64) -> Self {
+        // The same bits as `CELL_MARGIN * 2.0 * max_radius * collision_radius_scale`.
+        let cell = law.reach(CELL_MARGIN * 2.0 * max_radius);
+        OrderGrid([0, 1].map(|axis| match geometry.order_axis(axis) {
+            OrderAxisFrame {
+                origin,
+                period: Some(width),
+            } => {
                 let n = (width / cell).floor();
                 let n = if n.is_finite() {
                     n.min(1e9) as isize
@@ -265,20 +278,17 @@ impl OrderGrid {
                 // the periodic edge too.
                 let n = n - n % 4;
                 OrderAxis {
-                    origin: min[axis],
+                    origin,
                     inv_cell: n as f64 / width,
                     wrap: n,
                     single: n < 4,
                 }
             }
-            Boundary::Walls { min, .. } => OrderAxis {
-                origin: min[axis],
-                inv_cell: 1.0 / cell,
-                wrap: 0,
-                single: false,
-            },
-            Boundary::Open => OrderAxis {
-                origin: 0.0,
+            OrderAxisFrame {
+                origin,
+                period: None,
+            } => OrderAxis {
+                origin,
                 inv_cell: 1.0 / cell,
                 wrap: 0,
                 single: false,
@@ -298,6 +308,11 @@ impl OrderGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Boundary, Config};
+
+    fn order_grid(config: &Config, max_radius: f64) -> OrderGrid {
+        OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius)
+    }
 
     #[test]
     fn partners_within_the_largest_collision_distance_are_in_neighbouring_cells() {
@@ -306,7 +321,7 @@ mod tests {
             boundary: Boundary::Open,
             ..Config::default()
         };
-        let grid = OrderGrid::new(&config, 0.5);
+        let grid = order_grid(&config, 0.5);
         for base in [0.0, -3.7, 1e6 + 0.123, -1e8] {
             for k in 0..1000 {
                 let x = base + k as f64 * 0.0137;
@@ -325,7 +340,7 @@ mod tests {
             boundary: Boundary::walls([0.0, 0.0], [100.0, 100.0]),
             ..Config::default()
         };
-        let grid = OrderGrid::new(&config, 0.5);
+        let grid = order_grid(&config, 0.5);
         // Blocks are two cells of 1.01 wide.
         let colour = |x: f64, y: f64| grid.key(x, y) >> 62;
         assert_eq!(colour(0.5, 0.5), 0);
@@ -347,7 +362,7 @@ mod tests {
                 },
                 ..Config::default()
             };
-            let axis = OrderGrid::new(&config, 0.5).0[0];
+            let axis = order_grid(&config, 0.5).0[0];
             assert!(
                 axis.single || (axis.wrap % 4 == 0 && axis.wrap >= 4),
                 "{width}: {axis:?}"

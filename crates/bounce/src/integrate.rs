@@ -9,10 +9,10 @@
 //! pass, not per disc, and walls only read a disc's radius and mass when it is within the
 //! largest radius of a wall.
 
-use crate::boundary::{Edge, WallImpulse, reflect, wrap};
-use crate::broadphase::{Periodicity, Reference};
-use crate::config::Config;
-use crate::parallel::{CHUNK, Executor, SharedSlice};
+use crate::broadphase::Reference;
+use crate::context::StepContext;
+use crate::geometry::{Geometry, MinImage, WallImpulse, reflect, wrap};
+use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
 
 /// What integration reports.
@@ -27,43 +27,60 @@ pub(crate) struct Moved {
     pub max_stride: f64,
 }
 
-/// Advances every disc by `h`, applies the boundary, and measures displacements from
+/// One chunk of the arrays a pass writes, and the index of its first disc.
+struct Chunk<'a> {
+    base: usize,
+    x: &'a mut [f64],
+    y: &'a mut [f64],
+    vx: &'a mut [f64],
+    vy: &'a mut [f64],
+}
+
+/// Advances every disc by `ctx.h`, applies the boundary, and measures displacements from
 /// `reference`. `max_radius` bounds every radius (infinite when unknown).
 pub(crate) fn integrate(
     p: &mut Particles,
-    config: &Config,
-    h: f64,
+    ctx: &StepContext,
     reference: &Reference,
     max_radius: f64,
-    exec: &Executor,
 ) -> Moved {
     let n = p.len();
     let reference = reference.positions(n);
-    let periodicity = Periodicity::of(config);
-    let mass_model = config.mass_model;
+    let law = ctx.law;
     let (radius, mass) = (&p.radius, &p.mass);
-    let state = State {
-        x: SharedSlice::new(&mut p.x),
-        y: SharedSlice::new(&mut p.y),
-        vx: SharedSlice::new(&mut p.vx),
-        vy: SharedSlice::new(&mut p.vy),
-        gravity: config.gravity,
-        h,
-        n,
-    };
-    let partial = match Edge::of(config) {
-        Edge::Open => state.run(exec, reference, periodicity, |_, _, _, _, _, _| {}),
-        Edge::Periodic { min, size } => {
-            state.run(exec, reference, periodicity, |_, x, y, _, _, _| {
-                wrap(x, min[0], size[0]);
-                wrap(y, min[1], size[1]);
+    let mut chunks: Vec<Chunk> =
+        p.x.chunks_mut(CHUNK)
+            .zip(p.y.chunks_mut(CHUNK))
+            .zip(p.vx.chunks_mut(CHUNK))
+            .zip(p.vy.chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (((x, y), vx), vy))| Chunk {
+                base: c * CHUNK,
+                x,
+                y,
+                vx,
+                vy,
             })
-        }
-        Edge::Walls {
+            .collect();
+    let pass = Pass {
+        gravity: ctx.gravity,
+        h: ctx.h,
+        min_image: ctx.geometry.min_image(),
+        reference,
+    };
+    let chunks = &mut chunks[..];
+    let exec = ctx.exec;
+    let partial = match ctx.geometry {
+        Geometry::Open => pass.run(exec, chunks, |_, _, _| {}),
+        Geometry::Periodic { min, size, .. } => pass.run(exec, chunks, |_, [x, y, _, _], _| {
+            wrap(x, min[0], size[0]);
+            wrap(y, min[1], size[1]);
+        }),
+        Geometry::Walls {
             min,
             max,
             restitution: e,
-        } => state.run(exec, reference, periodicity, |i, x, y, vx, vy, impulse| {
+        } => pass.run(exec, chunks, |i, [x, y, vx, vy], impulse| {
             // Radii are at most `max_radius`, so a disc farther from every wall touches
             // none (rounding is monotone, so this never skips a disc `reflect` would move).
             let near = *x - max_radius < min[0]
@@ -72,7 +89,7 @@ pub(crate) fn integrate(
                 || *y + max_radius > max[1];
             if near {
                 let r = radius[i];
-                let m = mass_model.mass(r, mass[i]);
+                let m = law.mass(r, mass[i]);
                 let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
                 let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
                 impulse.left += left;
@@ -96,50 +113,48 @@ pub(crate) fn integrate(
         moved.max_displacement2 = moved.max_displacement2.max(*d2);
         max_speed2 = max_speed2.max(*v2);
     }
-    moved.max_stride = max_speed2.sqrt() * h;
+    moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
 }
 
-/// The arrays one pass writes, shared by the chunks.
-struct State<'a> {
-    x: SharedSlice<'a, f64>,
-    y: SharedSlice<'a, f64>,
-    vx: SharedSlice<'a, f64>,
-    vy: SharedSlice<'a, f64>,
+/// The constants of one pass.
+struct Pass<'r> {
     gravity: [f64; 2],
     h: f64,
-    n: usize,
+    min_image: MinImage,
+    reference: Option<(&'r [f32], &'r [f32])>,
 }
 
-impl State<'_> {
-    /// The pass over fixed chunks; per chunk the wall impulse, the largest squared
-    /// displacement and the largest squared speed.
+impl Pass<'_> {
+    /// The pass over the chunks, with the boundary and the reference check chosen once;
+    /// per chunk the wall impulse, the largest squared displacement and speed.
     fn run(
         &self,
         exec: &Executor,
-        reference: Option<(&[f32], &[f32])>,
-        periodicity: Periodicity,
-        boundary: impl Fn(usize, &mut f64, &mut f64, &mut f64, &mut f64, &mut WallImpulse) + Sync,
+        chunks: &mut [Chunk],
+        boundary: impl Fn(usize, &mut [f64; 4], &mut WallImpulse) + Sync,
     ) -> Vec<(WallImpulse, f64, f64)> {
-        let chunks = 0..self.n.div_ceil(CHUNK);
-        match reference {
-            Some((rx, ry)) => exec.map_index(self.n, chunks, |chunk| {
+        let n = chunks.iter().map(|c| c.x.len()).sum();
+        match self.reference {
+            Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
                 self.chunk(chunk, &boundary, |i, x, y| {
-                    let [dx, dy] = periodicity.diff(x, y, rx[i] as f64, ry[i] as f64);
+                    let [dx, dy] = self.min_image.diff(x, y, rx[i] as f64, ry[i] as f64);
                     dx * dx + dy * dy
                 })
             }),
-            None => exec.map_index(self.n, chunks, |chunk| {
+            None => exec.map_mut(n, chunks, |_, chunk| {
                 self.chunk(chunk, &boundary, |_, _, _| 0.0)
             }),
         }
     }
 
+    /// One chunk: the wall impulse, the largest squared displacement and the largest squared
+    /// speed. `boundary` gets the disc's index and `[x, y, vx, vy]`.
     #[inline(always)]
     fn chunk(
         &self,
-        chunk: usize,
-        boundary: &impl Fn(usize, &mut f64, &mut f64, &mut f64, &mut f64, &mut WallImpulse),
+        chunk: &mut Chunk,
+        boundary: &impl Fn(usize, &mut [f64; 4], &mut WallImpulse),
         displacement2: impl Fn(usize, f64, f64) -> f64,
     ) -> (WallImpulse, f64, f64) {
         let [gx, gy] = self.gravity;
@@ -147,19 +162,20 @@ impl State<'_> {
         let mut impulse = WallImpulse::default();
         let mut max_displacement2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
-        for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(self.n) {
-            // SAFETY: chunks are disjoint index ranges within the arrays.
-            unsafe {
-                let (mut vxi, mut vyi) = (self.vx.get(i) + gx * h, self.vy.get(i) + gy * h);
-                let (mut xi, mut yi) = (self.x.get(i) + vxi * h, self.y.get(i) + vyi * h);
-                boundary(i, &mut xi, &mut yi, &mut vxi, &mut vyi, &mut impulse);
-                self.x.set(i, xi);
-                self.y.set(i, yi);
-                self.vx.set(i, vxi);
-                self.vy.set(i, vyi);
-                max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
-                max_displacement2 = max_displacement2.max(displacement2(i, xi, yi));
-            }
+        let Chunk { base, x, y, vx, vy } = chunk;
+        let discs = x
+            .iter_mut()
+            .zip(y.iter_mut())
+            .zip(vx.iter_mut())
+            .zip(vy.iter_mut());
+        for (k, (((x, y), vx), vy)) in discs.enumerate() {
+            let (vxi, vyi) = (*vx + gx * h, *vy + gy * h);
+            let mut state = [*x + vxi * h, *y + vyi * h, vxi, vyi];
+            boundary(*base + k, &mut state, &mut impulse);
+            let [xi, yi, vxi, vyi] = state;
+            (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
+            max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
+            max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
         }
         (impulse, max_displacement2, max_speed2)
     }

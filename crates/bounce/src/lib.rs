@@ -10,7 +10,8 @@
 //! textbook physics, the textbook way is an option of [`Config`], never the default.
 //!
 //! What it aims for, in order:
-//! 1. **Faithful**: the seed's formulas term for term ([`collision::resolve_pair`]).
+//! 1. **Faithful**: the seed's formulas term for term ([`law::resolve_pair`]), in one module
+//!    that owns the collision law ([`law::Law`]).
 //! 2. **Deterministic**: the same input gives the same bits, whatever the thread count.
 //! 3. **Fast**: O(N) per step: candidate pairs listed with a hierarchy of uniform grids and
 //!    kept for several steps (a skin), particles kept in cell order, contacts resolved in
@@ -37,21 +38,22 @@
 //!
 //! See `ARCHITECTURE.md` in the repository for the data flow of one step.
 
-mod boundary;
-pub mod broadphase;
-pub mod collision;
+mod broadphase;
 mod config;
 mod contacts;
+mod context;
+mod geometry;
 mod integrate;
+pub mod law;
 mod parallel;
 mod particles;
+mod resolve;
 pub mod scene;
-mod solver;
 mod stats;
 mod world;
 
-pub use boundary::WallImpulse;
 pub use config::{Boundary, Config, ConfigError, MassModel, RestitutionModel, VelocityUpdate};
+pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};

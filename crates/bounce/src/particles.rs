@@ -8,12 +8,19 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::config::{Boundary, Config};
+use crate::config::Config;
+use crate::geometry::Geometry;
+use crate::law::Law;
 use crate::parallel::{CHUNK, Executor};
 
 /// A particle's stable identity, assigned in order of addition from 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct ParticleId(pub u32);
+
+/// A pair of ids, the lower first.
+pub(crate) fn ordered(a: ParticleId, b: ParticleId) -> (ParticleId, ParticleId) {
+    if a < b { (a, b) } else { (b, a) }
+}
 
 /// One disc as the user describes it: what goes into [`crate::World::add_particle`] and comes
 /// out of [`crate::World::particle`].
@@ -87,10 +94,11 @@ pub enum ParticleError {
 }
 
 impl Particle {
-    /// Checks this particle against a (valid) config.
+    /// Checks this particle against a (valid) config: finite values, and a place and size
+    /// the boundary admits.
     pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
         self.validate_values()?;
-        fits_boundary(self.position, self.radius, config)
+        Geometry::new(config).admit(self.position, self.radius, &Law::new(config))
     }
 
     /// Checks that every value is finite and radius and mass are positive.
@@ -110,53 +118,6 @@ impl Particle {
             Some(m) if !(m.is_finite() && m > 0.0) => Err(ParticleError::InvalidMass(m)),
             _ => Ok(()),
         }
-    }
-}
-
-/// Checks that a disc of radius `r` at `position` is allowed by the boundary.
-pub(crate) fn fits_boundary(
-    position: [f64; 2],
-    r: f64,
-    config: &Config,
-) -> Result<(), ParticleError> {
-    let Some((min, max)) = config.boundary.bounds() else {
-        return Ok(());
-    };
-    let [x, y] = position;
-    let outside = match config.boundary {
-        // A periodic box is half-open: `max` is the same place as `min`.
-        Boundary::Periodic { .. } => !(x >= min[0] && x < max[0] && y >= min[1] && y < max[1]),
-        _ => !(x >= min[0] && x <= max[0] && y >= min[1] && y <= max[1]),
-    };
-    if outside {
-        return Err(ParticleError::OutsideBox { position, min, max });
-    }
-    fits_size(r, config)
-}
-
-/// Checks that a disc of radius `r` fits the box.
-pub(crate) fn fits_size(r: f64, config: &Config) -> Result<(), ParticleError> {
-    let Some((min, max)) = config.boundary.bounds() else {
-        return Ok(());
-    };
-    let size = [max[0] - min[0], max[1] - min[1]];
-    let smaller_side = size[0].min(size[1]);
-    match config.boundary {
-        Boundary::Walls { .. } if 2.0 * r > smaller_side => Err(ParticleError::TooLarge {
-            radius: r,
-            size,
-            rule: "the diameter must fit between the walls",
-        }),
-        Boundary::Periodic { .. }
-            if 2.0 * r * config.collision_radius_scale > smaller_side / 2.0 =>
-        {
-            Err(ParticleError::TooLarge {
-                radius: r,
-                size,
-                rule: "2 r collision_radius_scale must be <= half of each side (minimum image)",
-            })
-        }
-        _ => Ok(()),
     }
 }
 
@@ -295,10 +256,7 @@ fn gather<S: Sync, T: Send>(
         .collect();
     exec.for_each_mut(order.len(), &mut chunks, |_, (slots, order)| {
         for (slot, &i) in slots.iter_mut().zip(order.iter()) {
-            // SAFETY: `order` is a permutation of `0..v.len()` (built by the counting sort),
-            // checked in debug builds.
-            debug_assert!((i as usize) < v.len());
-            *slot = f(unsafe { v.get_unchecked(i as usize) });
+            *slot = f(&v[i as usize]);
         }
     });
 }

@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::config::{Boundary, Config};
+use crate::geometry::Geometry;
+use crate::law::Law;
 use crate::particles::Particle;
 
 /// How a generator sets velocities.
@@ -113,10 +115,11 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
             "finite and >= 0",
         ));
     }
-    let periodic = matches!(config.boundary, Boundary::Periodic { .. });
+    let geometry = Geometry::new(config);
+    let periodic = geometry.is_periodic();
     let (min, max) = spec
         .region
-        .or(config.boundary.bounds())
+        .or(geometry.bounds())
         .ok_or_else(|| invalid("region", "none".into(), "required in an open world"))?;
     if !(min.iter().chain(&max).all(|v| v.is_finite()) && min[0] < max[0] && min[1] < max[1]) {
         return Err(invalid(
@@ -125,7 +128,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
             "finite with min < max",
         ));
     }
-    let s = config.collision_radius_scale;
+    let law = Law::new(config);
     let mut rng = Pcg64Mcg::seed_from_u64(spec.seed);
 
     // Largest first: big discs are hardest to fit late.
@@ -136,7 +139,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
 
     // A placement grid with cells no smaller than the largest interaction diameter.
     let size = [max[0] - min[0], max[1] - min[1]];
-    let reach = 2.0 * r_hi * s;
+    let reach = law.interaction_diameter(r_hi);
     let n = [0, 1].map(|a| ((size[a] / reach).floor() as usize).clamp(1, 4096));
     // Cell lists as linked lists through two flat arrays (a head per cell, a next per disc):
     // a million discs cost 8 MB here, not a Vec per cell.
@@ -172,8 +175,9 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
             let pos = [0, 1].map(|a| if pos[a] >= max[a] { min[a] } else { pos[a] });
             let c = cell_of(pos);
             // Large discs reach further than one cell of the placement grid.
+            let pair_reach = law.collision_distance(r, r_hi);
             let span =
-                [0, 1].map(|a| (((r + r_hi) * s / size[a] * n[a] as f64).ceil() as isize).max(1));
+                [0, 1].map(|a| ((pair_reach / size[a] * n[a] as f64).ceil() as isize).max(1));
             for dy in -span[1]..=span[1] {
                 for dx in -span[0]..=span[0] {
                     let (cx, cy) = (c[0] as isize + dx, c[1] as isize + dy);
@@ -190,7 +194,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
                         j = next[j as usize];
                         let dxp = min_image(pos[0] - q.position[0], 0);
                         let dyp = min_image(pos[1] - q.position[1], 1);
-                        if (dxp * dxp + dyp * dyp).sqrt() <= (r + q.radius) * s {
+                        if law.is_colliding([dxp, dyp], r, q.radius) {
                             continue 'attempt;
                         }
                     }

@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::boundary::WallImpulse;
 use crate::config::MassModel;
+use crate::geometry::WallImpulse;
 use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
 

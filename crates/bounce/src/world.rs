@@ -14,10 +14,13 @@ use thiserror::Error;
 use crate::broadphase::{self, Broadphase, Reference};
 use crate::config::{Config, ConfigError};
 use crate::contacts::Contacts;
+use crate::context::StepContext;
+use crate::geometry::Geometry;
 use crate::integrate::integrate;
+use crate::law::Law;
 use crate::parallel::{Executor, ThreadsError};
-use crate::particles::{Particle, ParticleError, ParticleId, Particles, fits_boundary, fits_size};
-use crate::solver::resolve_all;
+use crate::particles::{Particle, ParticleError, ParticleId, Particles};
+use crate::resolve::resolve_all;
 use crate::stats::{StepProfile, StepStats, Stopwatch, energy_and_momentum};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
@@ -104,9 +107,11 @@ impl World {
     /// invalid or a particle does not fit it (outside a new box, too large for it).
     pub fn set_config(&mut self, config: Config) -> Result<(), WorldError> {
         config.validate()?;
+        let (geometry, law) = (Geometry::new(&config), Law::new(&config));
         let p = &self.particles;
         for i in 0..p.len() {
-            fits_boundary([p.x[i], p.y[i]], p.radius[i], &config)
+            geometry
+                .admit([p.x[i], p.y[i]], p.radius[i], &law)
                 .map_err(|error| WorldError::Particle { id: p.id[i], error })?;
         }
         self.config = config;
@@ -182,47 +187,33 @@ impl World {
             return Err(StepError::InvalidTimeStep(dt));
         }
         let h = dt / self.config.substeps as f64;
+        let ctx = StepContext::new(&self.config, h, &self.exec);
         let mut stats = StepStats::default();
         let mut profile = StepProfile::default();
         let mut clock = Stopwatch::start();
         let mut reordered = false;
         for _ in 0..self.config.substeps {
-            let moved = integrate(
-                &mut self.particles,
-                &self.config,
-                h,
-                &self.broadphase.reference,
-                self.broadphase.radius_bound(),
-                &self.exec,
-            );
+            let bp = &mut self.broadphase;
+            let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
             profile.integrate += clock.lap();
 
-            if self.broadphase.update(
+            let rebuilt = bp.update(
                 &mut self.particles,
-                &self.config,
-                &self.exec,
+                &ctx,
                 moved.max_displacement2,
                 moved.max_stride,
-            ) {
-                reordered = true;
-                profile.rebuilds += 1;
-            }
+            );
+            reordered |= rebuilt;
+            profile.rebuilds += rebuilt as usize;
             profile.bin += clock.lap();
 
-            let found =
-                self.contacts
-                    .find(&self.broadphase, &self.particles, &self.config, &self.exec);
+            let found = self.contacts.find(bp, &self.particles, &ctx);
             stats.pairs += found.pairs;
             stats.max_overlap = stats.max_overlap.max(found.max_overlap);
             profile.pairs += clock.lap();
 
-            resolve_all(
-                &self.contacts,
-                &mut self.particles,
-                &self.config,
-                &self.exec,
-            );
+            resolve_all(&self.contacts, &mut self.particles, &ctx);
             profile.resolve += clock.lap();
         }
         (stats.kinetic_energy, stats.momentum) =
@@ -358,27 +349,26 @@ impl World {
     }
 
     /// The pairs within the collision distance right now, as sorted id pairs, found the way a
-    /// step finds them (the candidate list, rebuilt if discs have moved too far). The state
-    /// is not changed (only the storage order may be).
-    pub fn colliding_pairs(&mut self) -> Vec<(ParticleId, ParticleId)> {
-        let moved = self
-            .broadphase
-            .max_displacement2(&self.particles, &self.config);
-        if self
-            .broadphase
-            .update(&mut self.particles, &self.config, &self.exec, moved, 0.0)
-        {
-            self.index_of = OnceLock::new();
-        }
-        self.contacts
-            .find(&self.broadphase, &self.particles, &self.config, &self.exec);
-        self.contacts.pair_ids(&self.particles)
+    /// step finds them (grids, then the law's test). A query: neither the state nor the
+    /// storage order changes.
+    pub fn colliding_pairs(&self) -> Vec<(ParticleId, ParticleId)> {
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec);
+        let p = &self.particles;
+        let mut broadphase = Broadphase::default();
+        // Any margin gives a superset of the colliding pairs; the law's test decides.
+        let r_min = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let margin = 0.25 * ctx.law.interaction_diameter(r_min);
+        broadphase.list_in_place([&p.x, &p.y, &p.radius], &ctx, margin);
+        let mut contacts = Contacts::default();
+        contacts.find(&broadphase, p, &ctx);
+        contacts.pair_ids(p)
     }
 
     /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
     /// reference the grid is tested against. O(N²): for tests and small worlds.
     pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
-        broadphase::brute_force_pairs(&self.particles, &self.config)
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec);
+        broadphase::brute_force_pairs(&self.particles, &ctx)
     }
 
     /// A 64-bit FNV-1a hash of the state (ids, positions, velocities, radii, in id order,
@@ -433,6 +423,7 @@ impl TryFrom<WorldState> for World {
 
     fn try_from(state: WorldState) -> Result<World, WorldError> {
         let mut world = World::new(state.config)?;
+        let (geometry, law) = (Geometry::new(&world.config), Law::new(&world.config));
         let p = &state.particles;
         let n = p.len();
         let lengths = [
@@ -470,7 +461,7 @@ impl TryFrom<WorldState> for World {
             };
             particle
                 .validate_values()
-                .and_then(|()| fits_size(particle.radius, &world.config))
+                .and_then(|()| geometry.fits_size(particle.radius, &law))
                 .map_err(|error| WorldError::Particle { id, error })?;
         }
         if !(state.time.is_finite()) {
@@ -588,7 +579,7 @@ mod tests {
         shorter.truncate(world.len() - 1);
         let mut other = World::new(world.config.clone()).unwrap();
         other.particles = shorter;
-        other.colliding_pairs();
+        other.step(1.0 / 60.0).unwrap();
         let reference = other.broadphase.reference.clone();
         let state = WorldState {
             config: world.config.clone(),

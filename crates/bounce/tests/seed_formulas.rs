@@ -2,17 +2,27 @@
 
 mod common;
 
-use bounce::collision::{Body, ResolveParams, is_colliding, resolve_pair};
+use bounce::law::{Body, Law, resolve_pair};
 use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUpdate, World};
 use common::assert_close;
 
-fn seed_params(e: f64) -> ResolveParams {
-    ResolveParams {
+fn seed_params(e: f64) -> Law {
+    Law {
         collision_radius_scale: 1.0,
         restitution: e,
         restitution_model: RestitutionModel::ScaleEachNormalVelocity,
         velocity_update: VelocityUpdate::AllDetected,
+        mass_model: MassModel::Radius,
     }
+}
+
+/// The seed's detection rule with `collision_radius_scale` = `scale`.
+fn is_colliding(diff: [f64; 2], r1: f64, r2: f64, scale: f64) -> bool {
+    Law {
+        collision_radius_scale: scale,
+        ..seed_params(1.0)
+    }
+    .is_colliding(diff, r1, r2)
 }
 
 /// A body under the seed's mass model (mass = radius).
@@ -133,7 +143,7 @@ fn restitution_scales_each_new_normal_velocity() {
     close2(seed.v2, [0.5, 0.0], "seed v2");
 
     // The momentum-conserving option: v1' = (1 − 0.5)/2 = 0.25, v2' = (1 + 0.5)/2 = 0.75.
-    let newton = ResolveParams {
+    let newton = Law {
         restitution_model: RestitutionModel::RelativeNormalVelocity,
         ..seed_params(0.5)
     };
@@ -228,7 +238,7 @@ fn seed_updates_separating_pairs_and_the_option_does_not() {
     let (a, b) = (body([-1.0, 0.0], 1.0), body([1.0, 0.0], 1.0));
     let seed = resolve_pair([-1.5, 0.0], &a, &b, &seed_params(1.0));
     close2(seed.v1, [1.0, 0.0], "seed swaps them back together");
-    let approaching = ResolveParams {
+    let approaching = Law {
         velocity_update: VelocityUpdate::ApproachingOnly,
         ..seed_params(1.0)
     };

@@ -1,35 +1,23 @@
-//! Applies the seed's pair resolution to every contact, in the canonical order.
+//! Resolution: the law's pair resolution applied to every contact, in the canonical order.
 //!
 //! Pairs are resolved one after another on the current state (Gauss–Seidel style, as the
 //! seed's loop does): a disc pushed by one pair is seen at its new place by the next. The
 //! order is the canonical order of `contacts`; the pieces of one colour touch disjoint discs,
 //! so they run in parallel and still give the serial result bit for bit.
 
-use crate::broadphase::Periodicity;
-use crate::collision::{Body, ResolveParams, resolve_pair};
-use crate::config::Config;
 use crate::contacts::Contacts;
-use crate::parallel::{Executor, SharedSlice, prefetch};
+use crate::context::StepContext;
+use crate::law::Body;
+use crate::parallel::{SharedSlice, prefetch};
+use crate::particles::Particles;
 
 /// How many contacts ahead the solver asks for the discs' cache lines.
 const PREFETCH_AHEAD: usize = 8;
-use crate::particles::Particles;
 
 /// Resolves every contact found by the last `Contacts::find`, colour by colour.
-pub(crate) fn resolve_all(
-    contacts: &Contacts,
-    p: &mut Particles,
-    config: &Config,
-    exec: &Executor,
-) {
-    let params = ResolveParams {
-        collision_radius_scale: config.collision_radius_scale,
-        restitution: config.coefficient_of_restitution,
-        restitution_model: config.restitution_model,
-        velocity_update: config.velocity_update,
-    };
-    let periodicity = Periodicity::of(config);
-    let mass_model = config.mass_model;
+pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) {
+    let law = &ctx.law;
+    let min_image = ctx.geometry.min_image();
     let radius = &p.radius;
     let mass = &p.mass;
     let x = SharedSlice::new(&mut p.x);
@@ -40,7 +28,7 @@ pub(crate) fn resolve_all(
         // A contact costs a few cache misses: count it as a few discs' work.
         let pieces = &contacts.pieces[phase.clone()];
         let work = 4 * (pieces.last().map_or(0, |p| p.end) - pieces.first().map_or(0, |p| p.start));
-        exec.for_each_index(work, phase.clone(), |piece| {
+        ctx.exec.for_each_index(work, phase.clone(), |piece| {
             let list = &contacts.list[contacts.pieces[piece].clone()];
             for (k, contact) in list.iter().enumerate() {
                 // Contacts touch scattered discs: start loading a later contact's discs now.
@@ -59,13 +47,13 @@ pub(crate) fn resolve_all(
                 // are two cells apart (see `contacts`), so no other thread touches `a` or `b`
                 // now. Indices come from the current storage, so they are in bounds.
                 unsafe {
-                    let diff = periodicity.diff(x.get(a), y.get(a), x.get(b), y.get(b));
+                    let diff = min_image.diff(x.get(a), y.get(a), x.get(b), y.get(b));
                     let body = |i: usize| Body {
                         velocity: [vx.get(i), vy.get(i)],
                         radius: radius[i],
-                        mass: mass_model.mass(radius[i], mass[i]),
+                        mass: law.mass(radius[i], mass[i]),
                     };
-                    let out = resolve_pair(diff, &body(a), &body(b), &params);
+                    let out = law.resolve(diff, &body(a), &body(b));
                     x.set(a, x.get(a) + out.push[0]);
                     y.set(a, y.get(a) + out.push[1]);
                     x.set(b, x.get(b) - out.push[0]);

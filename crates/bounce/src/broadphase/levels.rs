@@ -1,0 +1,311 @@
+//! Levels and their grids: which grid a disc is binned in, and how each grid is laid out.
+//!
+//! Each disc gets a *level* by its interaction diameter `d`: level `k` holds
+//! `d_min 2^k < d <= d_min 2^(k+1)` (level 0 includes `d_min`), and each non-empty level has
+//! its own uniform grid with cells at least its largest `d` plus the skin. In a box the grid
+//! covers the box (wrapping when periodic); in an open world it covers the bulk of the level's
+//! discs around their median, at most about one cell per disc, and outliers share the edge
+//! cells (clamping never moves two cell coordinates further apart).
+
+use std::cell::RefCell;
+
+use crate::context::StepContext;
+use crate::geometry::Extent;
+use crate::law::Law;
+
+/// At most this many grid levels (interaction diameters spanning a factor 2^16).
+pub(super) const MAX_LEVELS: usize = 16;
+
+/// A non-empty level: its index among the non-empty ones, its disc count, its largest radius.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Level {
+    pub index: usize,
+    pub count: usize,
+    pub max_radius: f64,
+}
+
+/// What laying out a grid reads about the discs besides their positions.
+pub(super) struct Discs<'a> {
+    /// Per-disc level; empty when all discs share level 0.
+    pub level_of: &'a [u8],
+    /// Scratch for the medians of an open world.
+    pub scratch: &'a RefCell<Vec<f64>>,
+}
+
+/// One level's uniform grid.
+#[derive(Clone, Debug)]
+pub(super) struct LevelGrid {
+    pub(super) origin: [f64; 2],
+    pub(super) inv_cell: [f64; 2],
+    pub(super) n: [usize; 2],
+    /// Whether cell coordinates wrap (periodic box).
+    pub(super) wrap: bool,
+    /// First global cell index of this level.
+    pub(super) cell_offset: usize,
+    /// Largest radius at this level, for cross-level reach.
+    pub(super) max_radius: f64,
+    /// Forward half-stencil: neighbour offsets whose pairs this cell owns.
+    pub(super) forward: Vec<[isize; 2]>,
+}
+
+impl LevelGrid {
+    /// The (clamped) cell coordinate of `v` along `axis`.
+    #[inline]
+    pub(super) fn coord(&self, v: f64, axis: usize) -> usize {
+        let c = floor_to_isize((v - self.origin[axis]) * self.inv_cell[axis]);
+        // A periodic coordinate wraps, since an overlap push can leave a centre a little
+        // outside the box.
+        let n = self.n[axis] as isize;
+        if self.wrap {
+            c.rem_euclid(n) as usize
+        } else {
+            c.clamp(0, n - 1) as usize
+        }
+    }
+
+    /// Maps a possibly out-of-range cell coordinate to the grid: wrapped when periodic,
+    /// `None` when outside a non-periodic grid.
+    #[inline]
+    pub(super) fn neighbour(&self, c: isize, axis: usize) -> Option<usize> {
+        let n = self.n[axis] as isize;
+        if self.wrap {
+            Some(c.rem_euclid(n) as usize)
+        } else {
+            (0..n).contains(&c).then_some(c as usize)
+        }
+    }
+
+    #[inline]
+    pub(super) fn cell_index(&self, cx: usize, cy: usize) -> usize {
+        self.cell_offset + cy * self.n[0] + cx
+    }
+}
+
+/// `floor(v)` as an integer, saturating (NaN gives 0). Inlined, unlike `f64::floor` on
+/// baseline x86-64, which calls libm.
+#[inline(always)]
+pub(crate) fn floor_to_isize(v: f64) -> isize {
+    let t = v as isize;
+    if (t as f64) > v {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// The level of a disc of interaction diameter `d` given the smallest one, `d_min`.
+#[inline]
+pub(super) fn level_of(d: f64, d_min: f64) -> usize {
+    let mut level = 0;
+    let mut band = 2.0 * d_min;
+    while d > band && level < MAX_LEVELS - 1 {
+        band *= 2.0;
+        level += 1;
+    }
+    level
+}
+
+/// Cells along one axis of width `width` for cells of at least `min_cell`.
+fn cells_along(width: f64, min_cell: f64, wrap: bool) -> usize {
+    let n = (width / min_cell).floor();
+    let n = if n.is_finite() && n >= 1.0 {
+        // Bounded so cell counts never overflow, even with 32-bit usize.
+        n.min(1e6) as usize
+    } else {
+        1
+    };
+    // With 1 or 2 cells a periodic stencil would meet the same cell twice: use one cell.
+    if wrap && n < 3 { 1 } else { n }
+}
+
+/// The levels of discs with radii `radius`: the non-empty levels in order, and in
+/// `level_of` each disc's (compacted) level, left empty when there is only one. One level is
+/// the common case (equal or similar discs): then no per-disc level is stored at all. Also
+/// returns the smallest and largest radius.
+pub(super) fn assign(radius: &[f64], law: &Law, level_of: &mut Vec<u8>) -> (Vec<Level>, [f64; 2]) {
+    let (r_min, r_max) = radius.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+        (lo.min(r), hi.max(r))
+    });
+    let d_min = law.interaction_diameter(r_min);
+    level_of.clear();
+    if level_of_radius(law, r_max, d_min) == 0 {
+        let single = Level {
+            index: 0,
+            count: radius.len(),
+            max_radius: r_max,
+        };
+        return (vec![single], [r_min, r_max]);
+    }
+    level_of.extend(radius.iter().map(|&r| level_of_radius(law, r, d_min) as u8));
+    let mut stats = [(0usize, 0.0f64); MAX_LEVELS];
+    for (&l, &r) in level_of.iter().zip(radius) {
+        let (n, max_r) = &mut stats[l as usize];
+        *n += 1;
+        *max_r = max_r.max(r);
+    }
+    // Compact the non-empty levels.
+    let mut used = Vec::new();
+    let mut compact = [0u8; MAX_LEVELS];
+    for (l, &(count, max_radius)) in stats.iter().enumerate() {
+        if count > 0 {
+            compact[l] = used.len() as u8;
+            used.push(Level {
+                index: used.len(),
+                count,
+                max_radius,
+            });
+        }
+    }
+    for l in level_of.iter_mut() {
+        *l = compact[*l as usize];
+    }
+    (used, [r_min, r_max])
+}
+
+#[inline]
+fn level_of_radius(law: &Law, r: f64, d_min: f64) -> usize {
+    level_of(law.interaction_diameter(r), d_min)
+}
+
+/// The grid for one level.
+pub(super) fn level_grid(
+    positions: [&[f64]; 2],
+    ctx: &StepContext,
+    skin: f64,
+    level: Level,
+    cell_offset: usize,
+    discs: &Discs,
+) -> LevelGrid {
+    let Level {
+        index: level,
+        count: n_level,
+        max_radius,
+    } = level;
+    let min_cell = ctx.law.interaction_diameter(max_radius) + skin;
+    // About one cell per disc at most: fewer, fuller cells beat many empty ones (a
+    // dense gas at cell side = diameter would leave most cells empty).
+    let max_cells = n_level + 64;
+    let (origin, width, wrap) = match ctx.geometry.grid_extent() {
+        Some(Extent {
+            origin,
+            width,
+            wrap,
+        }) => (origin, width, wrap),
+        None => {
+            let side = (max_cells as f64).sqrt() * min_cell;
+            let mut origin = [0.0; 2];
+            let mut width = [0.0; 2];
+            for axis in 0..2 {
+                let (lo, hi, median) = spread(positions[axis], level, discs);
+                // The bulk around the median; outliers fall into the edge cells.
+                let lo = lo.max(median - side / 2.0);
+                let hi = hi.min(median + side / 2.0);
+                origin[axis] = lo;
+                width[axis] = hi - lo;
+            }
+            (origin, width, false)
+        }
+    };
+    let mut n = [
+        cells_along(width[0], min_cell, wrap),
+        cells_along(width[1], min_cell, wrap),
+    ];
+    let total = n[0] as f64 * n[1] as f64;
+    if total > max_cells as f64 {
+        let shrink = (total / max_cells as f64).sqrt();
+        for cells in &mut n {
+            let fewer = ((*cells as f64 / shrink).floor() as usize).max(1);
+            *cells = if wrap && fewer < 3 { 1 } else { fewer };
+        }
+    }
+    let cell = [0, 1].map(|axis| {
+        if n[axis] == 1 && !wrap {
+            width[axis].max(min_cell)
+        } else {
+            width[axis] / n[axis] as f64
+        }
+    });
+    let axis_offsets = |axis: usize| -> Vec<isize> {
+        if wrap && n[axis] == 1 {
+            vec![0]
+        } else {
+            vec![-1, 0, 1]
+        }
+    };
+    let mut forward = Vec::new();
+    for &dy in &axis_offsets(1) {
+        for &dx in &axis_offsets(0) {
+            if dy > 0 || (dy == 0 && dx > 0) {
+                forward.push([dx, dy]);
+            }
+        }
+    }
+    LevelGrid {
+        origin,
+        inv_cell: [1.0 / cell[0], 1.0 / cell[1]],
+        n,
+        wrap,
+        cell_offset,
+        max_radius,
+        forward,
+    }
+}
+
+/// Minimum, maximum and median of one coordinate over the discs of `level`.
+fn spread(coords: &[f64], level: usize, discs: &Discs) -> (f64, f64, f64) {
+    let mut v = discs.scratch.borrow_mut();
+    v.clear();
+    if discs.level_of.is_empty() {
+        v.extend_from_slice(coords);
+    } else {
+        v.extend(
+            coords
+                .iter()
+                .zip(discs.level_of)
+                .filter(|&(_, &l)| l as usize == level)
+                .map(|(&v, _)| v),
+        );
+    }
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mid = v.len() / 2;
+    let (_, &mut median, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    (lo, hi, median)
+}
+
+/// Lists, per block, every pair within its collision distance plus `margin`, for discs
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_band_by_factor_two() {
+        assert_eq!(level_of(1.0, 1.0), 0);
+        assert_eq!(level_of(2.0, 1.0), 0);
+        assert_eq!(level_of(2.01, 1.0), 1);
+        assert_eq!(level_of(4.0, 1.0), 1);
+        assert_eq!(level_of(50.0, 1.0), 5);
+        assert_eq!(level_of(f64::MAX, 1e-300), MAX_LEVELS - 1);
+    }
+
+    #[test]
+    fn periodic_grids_never_have_two_cells_on_an_axis() {
+        assert_eq!(cells_along(10.0, 4.0, true), 1);
+        assert_eq!(cells_along(10.0, 4.0, false), 2);
+        assert_eq!(cells_along(10.0, 3.0, true), 3);
+        assert_eq!(cells_along(0.0, 3.0, false), 1);
+    }
+
+    #[test]
+    fn similar_discs_share_one_level_and_store_none() {
+        let law = Law::new(&crate::Config::default());
+        let mut level_of = vec![7];
+        let (levels, radii) = assign(&[0.5, 0.9, 1.0], &law, &mut level_of);
+        assert_eq!((levels.len(), radii), (1, [0.5, 1.0]));
+        assert!(level_of.is_empty());
+        let (levels, _) = assign(&[0.5, 5.0, 1.5], &law, &mut level_of);
+        assert_eq!(levels.len(), 3);
+        assert_eq!(level_of, vec![0, 2, 1]);
+    }
+}

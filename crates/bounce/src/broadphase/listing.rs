@@ -1,0 +1,236 @@
+//! Candidate listing: every pair within its collision distance plus a margin (the skin),
+//! found through the grids of the last binning.
+//!
+//! Each candidate pair is listed once, by one cell: the cell of the finer disc, or for discs
+//! of one level, the cell visited first by the forward half-stencil. A disc meets discs of its
+//! own level through the 3×3 stencil, and discs of each coarser level through the at most
+//! 3×3 cells of that grid under its reach (coarser cells are at least that reach). Blocks of
+//! whole cell rows list in parallel, each into its own list, in storage order.
+
+use std::ops::Range;
+
+use super::Pair;
+use super::levels::{LevelGrid, floor_to_isize};
+use super::sort::Block;
+use crate::context::StepContext;
+use crate::geometry::MinImage;
+use crate::law::Law;
+
+/// Lists, per block, every pair within its collision distance plus `margin`, for discs at
+/// `x`, `y` of radii `radius`, in the cell order of the binning that made `grids`,
+/// `cell_start` and `blocks`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn list_candidates(
+    grids: &[LevelGrid],
+    cell_start: &[u32],
+    blocks: &[Block],
+    [x, y, radius]: [&[f64]; 3],
+    ctx: &StepContext,
+    margin: f64,
+    candidates: &mut [Vec<Pair>],
+) {
+    let min_image = ctx.geometry.min_image();
+    let search = Context {
+        x,
+        y,
+        radius,
+        levels: grids,
+        cell_start,
+        law: ctx.law,
+        margin,
+        min_image,
+    };
+    ctx.exec.for_each_mut(x.len(), candidates, |b, pairs| {
+        pairs.clear();
+        if min_image.is_periodic() {
+            search.block_pairs::<true>(&blocks[b], pairs);
+        } else {
+            search.block_pairs::<false>(&blocks[b], pairs);
+        }
+        // A list kept from a larger block of an earlier grid gives back its excess.
+        if pairs.capacity() > 2 * pairs.len() + 1024 {
+            pairs.shrink_to(pairs.len() + pairs.len() / 4);
+        }
+    });
+}
+
+/// Whether the cell's forward half-stencil is the full one with no edge in between:
+/// `(cx + 1, cy)` and `(cx - 1..=cx + 1, cy + 1)`, all inside the grid.
+#[inline]
+fn interior(g: &LevelGrid, cx: usize, cy: usize) -> bool {
+    g.forward.len() == 4 && cx >= 1 && cx + 1 < g.n[0] && cy + 1 < g.n[1]
+}
+
+/// Read-only view the candidate search of one block needs. Its methods' `PERIODIC` picks
+/// the minimum image at compile time.
+pub(super) struct Context<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    radius: &'a [f64],
+    levels: &'a [LevelGrid],
+    cell_start: &'a [u32],
+    law: Law,
+    /// Added to each pair's collision distance: the skin.
+    margin: f64,
+    min_image: MinImage,
+}
+
+impl Context<'_> {
+    #[inline]
+    fn cell_range(&self, cell: usize) -> Range<usize> {
+        self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
+    }
+
+    /// Lists `a` with each disc of `others` within distance `sqrt(cut2)`: at least the
+    /// collision distance plus the margin of every pair tested, so each list is a superset
+    /// and one constant serves a whole run.
+    #[inline(always)]
+    fn test<const PERIODIC: bool>(
+        &self,
+        a: usize,
+        others: Range<usize>,
+        cut2: f64,
+        out: &mut Vec<Pair>,
+    ) {
+        let (xa, ya) = (self.x[a], self.y[a]);
+        let start = others.start;
+        // Slices first: the loop then runs without bounds checks.
+        let (xs, ys) = (&self.x[others.clone()], &self.y[others]);
+        // About one test in four is a candidate, so a branch on it would mispredict often:
+        // every pair is written to the spare capacity and the length only advances on a hit.
+        if out.capacity() - out.len() < xs.len() {
+            // Grow by a quarter, not double: the lists are a large part of the memory.
+            out.reserve_exact(xs.len().max(out.capacity() / 4));
+        }
+        let mut len = out.len();
+        let spare = out.spare_capacity_mut();
+        let mut written = 0;
+        for (k, (&xb, &yb)) in xs.iter().zip(ys).enumerate() {
+            let [dx, dy] = if PERIODIC {
+                self.min_image.diff(xa, ya, xb, yb)
+            } else {
+                [xa - xb, ya - yb]
+            };
+            let hit = dx * dx + dy * dy <= cut2;
+            // `written <= k < xs.len()`, within the reserved spare capacity.
+            spare[written].write([a as u32, (start + k) as u32]);
+            written += hit as usize;
+        }
+        len += written;
+        // SAFETY: the first `written` spare slots were initialised above.
+        unsafe { out.set_len(len) };
+    }
+
+    /// All candidates listed by the cells of `block`.
+    fn block_pairs<const PERIODIC: bool>(&self, block: &Block, out: &mut Vec<Pair>) {
+        let g = &self.levels[block.level];
+        // Pairs across levels are listed by the finer disc: a coarser grid's cells are at
+        // least the reach, so it scans at most 3×3 of them.
+        let coarser = &self.levels[block.level + 1..];
+        // Discs of one level are at most its largest radius.
+        let own_cut = self.law.interaction_diameter(g.max_radius) + self.margin;
+        let own_cut2 = own_cut * own_cut;
+        for cy in block.y.clone() {
+            for cx in block.x.clone() {
+                let own_cell = g.cell_index(cx, cy);
+                let own = self.cell_range(own_cell);
+                if own.is_empty() {
+                    continue;
+                }
+                if interior(g, cx, cy) {
+                    // The common case, without the edge logic below: the own cell with the
+                    // next, and the three cells of the row above, are each one run.
+                    let above = own_cell + g.n[0];
+                    let first_end = self.cell_start[own_cell + 2] as usize;
+                    let upper =
+                        self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
+                    for a in own.clone() {
+                        self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
+                        self.test::<PERIODIC>(a, upper.clone(), own_cut2, out);
+                        for level in coarser {
+                            self.scan_level::<PERIODIC>(a, level, out);
+                        }
+                    }
+                    continue;
+                }
+                // The own cell and the forward half-stencil, in stencil order, with cells that
+                // follow each other in memory merged into one run: (cx, cy) and (cx + 1, cy)
+                // are one run, and so is the row above. Fewer, longer loops.
+                let mut runs = [(own_cell, own_cell); 5];
+                let mut count = 1;
+                for &[dx, dy] in &g.forward {
+                    if let (Some(nx), Some(ny)) = (
+                        g.neighbour(cx as isize + dx, 0),
+                        g.neighbour(cy as isize + dy, 1),
+                    ) {
+                        let cell = g.cell_index(nx, ny);
+                        if cell == runs[count - 1].1 + 1 {
+                            runs[count - 1].1 = cell;
+                        } else {
+                            runs[count] = (cell, cell);
+                            count += 1;
+                        }
+                    }
+                }
+                let mut ranges = [0..0, 0..0, 0..0, 0..0, 0..0];
+                for (slot, &(first, last)) in ranges.iter_mut().zip(&runs[..count]) {
+                    *slot = self.cell_start[first] as usize..self.cell_start[last + 1] as usize;
+                }
+                let first_end = ranges[0].end;
+                for a in own.clone() {
+                    // The own cell's later discs (and what follows it in memory), then the rest.
+                    self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
+                    for range in &ranges[1..count] {
+                        self.test::<PERIODIC>(a, range.clone(), own_cut2, out);
+                    }
+                    // Coarser levels: every cell under this disc's reach.
+                    for level in coarser {
+                        self.scan_level::<PERIODIC>(a, level, out);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Lists disc `a` with the discs of another level's grid within its reach.
+    fn scan_level<const PERIODIC: bool>(&self, a: usize, grid: &LevelGrid, out: &mut Vec<Pair>) {
+        let reach = self.law.collision_distance(self.radius[a], grid.max_radius) + self.margin;
+        let pos = [self.x[a], self.y[a]];
+        // The cells under the reach along one axis: a first cell and a count (wrapping in a
+        // periodic grid).
+        let span = |axis: usize| -> (isize, usize) {
+            let lo = floor_to_isize((pos[axis] - reach - grid.origin[axis]) * grid.inv_cell[axis]);
+            let hi = floor_to_isize((pos[axis] + reach - grid.origin[axis]) * grid.inv_cell[axis]);
+            let n = grid.n[axis] as isize;
+            // Far beyond any grid (cells per axis are capped at 10^6), and fits 32-bit isize.
+            let (lo, hi) = (lo.max(-(1 << 28)), hi.min(1 << 28));
+            if grid.wrap {
+                if hi - lo + 1 >= n {
+                    (0, n as usize)
+                } else {
+                    (lo.rem_euclid(n), (hi - lo + 1) as usize)
+                }
+            } else {
+                // Clamped like `coord`, so outliers in edge cells are still met.
+                let (lo, hi) = (lo.clamp(0, n - 1), hi.clamp(0, n - 1));
+                (lo, (hi - lo + 1) as usize)
+            }
+        };
+        let (x_first, x_count) = span(0);
+        let (y_first, y_count) = span(1);
+        let (nx, ny) = (grid.n[0] as isize, grid.n[1] as isize);
+        for k in 0..y_count as isize {
+            let cy = ((y_first + k) % ny) as usize;
+            // The row's cells are contiguous in memory: one range, or two where it wraps.
+            let end = x_first + x_count as isize;
+            let first_run = (x_first as usize, (end.min(nx) - 1) as usize);
+            let runs = [first_run, (0, (end - nx - 1).max(-1) as usize)];
+            let wrapped = end > nx;
+            for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
+                let range = self.cell_start[grid.cell_index(c0, cy)] as usize
+                    ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
+                self.test::<PERIODIC>(a, range, reach * reach, out);
+            }
+        }
+    }
+}

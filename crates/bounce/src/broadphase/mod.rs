@@ -1,0 +1,270 @@
+//! Broadphase: which pairs may collide, found in O(N) and kept for several steps.
+//!
+//! | file | owns |
+//! |---|---|
+//! | `levels.rs` | levels by interaction diameter, each level's grid and cell size |
+//! | `sort.rs` | the stable counting sort into cell order, the blocks of cell rows |
+//! | `listing.rs` | candidate listing through the grids (the stencils, cross-level scans) |
+//! | `reference.rs` | reference positions and the skin: when the list must be rebuilt |
+//! | `mod.rs` | the upkeep: keep, rebuild (reordering storage) or list in place |
+//!
+//! # Candidates with a skin
+//! A rebuild lists every pair whose distance is within its collision distance plus a *skin*,
+//! and records where each disc was (the *reference* positions). As long as no disc has moved
+//! more than half the skin from its reference, every pair that can collide is still on the
+//! list (two discs closed in by at most one skin together), so a step only tests the listed
+//! candidates; the step's integration pass measures the largest displacement and a rebuild
+//! follows when it reaches the allowance. What collides, and in which order it is resolved,
+//! is decided afterwards from the current state alone (see `contacts`), so when the list is
+//! rebuilt changes nothing but speed.
+//!
+//! # Grids
+//! Discs are binned into uniform grids (cell lists) with no fixed cell capacity: a stable
+//! counting sort by cell index reorders the particle arrays so each cell is a contiguous run,
+//! and neighbour search walks memory in order. The cell side is at least the largest
+//! interaction diameter (the law's collision distance of two such discs) plus the skin, so every candidate lies in
+//! the 3×3 cells around a disc.
+//!
+//! # Polydisperse radii: a hierarchy of grids
+//! One grid sized for the largest disc would put thousands of small discs in a cell when radii
+//! span 0.1 to 5. Instead each disc gets a *level* by its interaction diameter `d`:
+//! level `k` holds `d_min 2^k < d <= d_min 2^(k+1)` (level 0 includes `d_min`), and each
+//! non-empty level has its own grid sized for its largest disc. A disc meets discs of its own
+//! level through the 3×3 stencil, and discs of each coarser level through the at most 3×3
+//! cells of that grid under its reach (coarser cells are at least that reach). Cost stays
+//! proportional to the number of discs, whatever the mix.
+//!
+//! # Ownership and blocks
+//! Each candidate pair is listed once, by one cell: the cell of the finer disc, or for discs
+//! of one level, the cell visited first by the forward half-stencil. Cells are grouped into
+//! blocks of whole rows, about a thousand discs each: the units of parallel work, each one
+//! run of storage, so candidates are listed and later tested in storage order.
+//!
+//! # Open worlds
+//! Cell coordinates are clamped to the grid (wrapped, in a periodic box). Clamping never
+//! increases the distance between two cell coordinates, so partners stay within one cell of
+//! each other and the stencil argument holds. An open world's grid covers the bulk of its
+//! discs (around the median position, capped at about one cell per disc); discs far away pile
+//! into edge cells, which costs time but never misses a pair.
+
+mod levels;
+mod listing;
+mod reference;
+mod sort;
+
+use std::cell::RefCell;
+
+pub(crate) use levels::floor_to_isize;
+pub(crate) use reference::Reference;
+
+use crate::context::StepContext;
+use crate::particles::{ParticleId, Particles, PermuteScratch, ordered};
+use levels::{Discs, LevelGrid};
+use reference::Skin;
+use sort::Block;
+
+/// A pair of storage indices.
+pub(crate) type Pair = [u32; 2];
+
+/// The grids, the blocks and the candidate pairs of the last rebuild.
+#[derive(Debug, Default)]
+pub(crate) struct Broadphase {
+    grids: Vec<LevelGrid>,
+    /// Global cell `c` holds storage indices `cell_start[c]..cell_start[c + 1]`.
+    cell_start: Vec<u32>,
+    blocks: Vec<Block>,
+    /// Candidate pairs listed by each block.
+    pub(crate) candidates: Vec<Vec<Pair>>,
+    pub(crate) reference: Reference,
+    /// Whether `candidates` were listed for `reference` (not so after loading a world).
+    listed: bool,
+    /// The number of discs at the last listing.
+    count: usize,
+    /// The largest radius at the last rebuild.
+    max_radius: f64,
+    /// Whether every disc had the same radius at the last rebuild.
+    uniform_radius: bool,
+    // Scratch reused between rebuilds (the cell keys live in `scratch`).
+    order: Vec<u32>,
+    /// Per-disc level; empty when all discs share level 0.
+    level_of: Vec<u8>,
+    f64_scratch: RefCell<Vec<f64>>,
+    scratch: PermuteScratch,
+}
+
+impl Broadphase {
+    /// The largest radius at the last rebuild: what the contact order's grid is sized for.
+    pub(crate) fn max_radius(&self) -> f64 {
+        self.max_radius
+    }
+
+    /// The radius of every disc, when all are equal (as at the last listing).
+    pub(crate) fn uniform_radius(&self) -> Option<f64> {
+        (self.listed && self.uniform_radius).then_some(self.max_radius)
+    }
+
+    /// How many discs the candidates were listed for, if they are listed.
+    pub(crate) fn listed_count(&self) -> Option<usize> {
+        self.listed.then_some(self.count)
+    }
+
+    /// A bound on every radius: the largest at the last listing while the list stands (no
+    /// disc added since), else infinite.
+    pub(crate) fn radius_bound(&self) -> f64 {
+        if self.listed {
+            self.max_radius
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Forgets the candidates and the reference: the next [`Broadphase::update`] rebuilds.
+    /// Called whenever discs or the configuration change outside the step.
+    pub(crate) fn invalidate(&mut self) {
+        self.reference = Reference::default();
+        self.listed = false;
+        self.max_radius = f64::INFINITY;
+    }
+
+    /// Makes the candidates cover the current positions, given the largest squared
+    /// displacement since the reference (infinite when unknown) and the longest distance a
+    /// disc moved in the last substep (to size the skin). Returns whether the storage order
+    /// changed.
+    pub(crate) fn update(
+        &mut self,
+        p: &mut Particles,
+        ctx: &StepContext,
+        max_displacement2: f64,
+        stride: f64,
+    ) -> bool {
+        if self.reference.positions(p.len()).is_some() && self.reference.covers(max_displacement2) {
+            if !self.listed {
+                // A loaded world: list candidates for its reference positions, keeping the
+                // storage order it was saved in.
+                let rx: Vec<f64> = self.reference.x.iter().map(|&v| v as f64).collect();
+                let ry: Vec<f64> = self.reference.y.iter().map(|&v| v as f64).collect();
+                // The stored positions are within `slack` of the true ones, twice over.
+                let margin = self.reference.skin + 2.0 * self.reference.slack;
+                self.list_in_place([&rx, &ry, &p.radius], ctx, margin);
+            }
+            false
+        } else {
+            self.rebuild(p, ctx, stride);
+            true
+        }
+    }
+
+    /// Bins the discs, reorders the particle arrays into cell order, lists the candidates and
+    /// takes the current positions as the new reference. `stride` is how far the fastest
+    /// disc moves per substep.
+    pub(crate) fn rebuild(&mut self, p: &mut Particles, ctx: &StepContext, stride: f64) {
+        let skin = self.bin([&p.x, &p.y, &p.radius], ctx, Skin::Stride(stride));
+        p.permute(&self.order, &mut self.scratch, ctx.exec);
+        self.list([&p.x, &p.y, &p.radius], ctx, skin);
+        self.reference.record(&p.x, &p.y, skin, ctx.exec);
+        self.listed = true;
+        self.count = p.len();
+    }
+
+    /// Lists candidates within `margin` for discs at `x`, `y` without reordering them: bins
+    /// a sorted copy and maps the pairs back to the given order.
+    pub(crate) fn list_in_place(
+        &mut self,
+        [x, y, radius]: [&[f64]; 3],
+        ctx: &StepContext,
+        margin: f64,
+    ) {
+        self.bin([x, y, radius], ctx, Skin::Fixed(margin));
+        let gather =
+            |v: &[f64]| -> Vec<f64> { self.order.iter().map(|&i| v[i as usize]).collect() };
+        let (sx, sy, sr) = (gather(x), gather(y), gather(radius));
+        self.list([&sx, &sy, &sr], ctx, margin);
+        let order = &self.order;
+        for pairs in &mut self.candidates {
+            for pair in pairs.iter_mut() {
+                *pair = pair.map(|k| order[k as usize]);
+            }
+        }
+        self.listed = true;
+        self.count = x.len();
+    }
+
+    /// Levels, grids, the stable counting sort into `order` (new index `k` holds old index
+    /// `order[k]`) and the blocks, for discs at `x`, `y`, with cells sized for the skin.
+    /// Returns the skin.
+    fn bin(&mut self, [x, y, radius]: [&[f64]; 3], ctx: &StepContext, skin: Skin) -> f64 {
+        self.grids.clear();
+        self.blocks.clear();
+        self.order.clear();
+        self.cell_start.clear();
+        self.cell_start.push(0);
+        self.max_radius = 0.0;
+        if radius.is_empty() {
+            return 0.0;
+        }
+        // 1. Levels: a band of interaction diameters each.
+        let (levels, [r_min, r_max]) = levels::assign(radius, &ctx.law, &mut self.level_of);
+        self.max_radius = r_max;
+        self.uniform_radius = r_min == r_max;
+        let skin = skin.width(&ctx.law, levels[0].max_radius, r_max);
+
+        // 2. One grid per level.
+        let discs = Discs {
+            level_of: &self.level_of,
+            scratch: &self.f64_scratch,
+        };
+        let mut cell_offset = 0;
+        for &level in &levels {
+            let grid = levels::level_grid([x, y], ctx, skin, level, cell_offset, &discs);
+            cell_offset += grid.n[0] * grid.n[1];
+            self.grids.push(grid);
+        }
+
+        // 3. The counting sort (its keys in the permutation scratch) and 4. the blocks.
+        let keys = self.scratch.u32s(radius.len());
+        sort::counting_sort(
+            &self.grids,
+            &self.level_of,
+            x,
+            y,
+            keys,
+            &mut self.cell_start,
+            &mut self.order,
+            ctx.exec,
+        );
+        sort::blocks(&self.grids, &levels, &mut self.blocks);
+        self.candidates.resize_with(self.blocks.len(), Vec::new);
+        self.candidates.truncate(self.blocks.len());
+        skin
+    }
+
+    /// Lists the candidates of discs in the cell order of the last `bin`.
+    fn list(&mut self, discs: [&[f64]; 3], ctx: &StepContext, margin: f64) {
+        listing::list_candidates(
+            &self.grids,
+            &self.cell_start,
+            &self.blocks,
+            discs,
+            ctx,
+            margin,
+            &mut self.candidates,
+        );
+    }
+}
+
+/// Every pair within the collision distance by testing all N(N-1)/2 pairs: the oracle the
+/// grid is tested against. Returns sorted id pairs.
+pub(crate) fn brute_force_pairs(p: &Particles, ctx: &StepContext) -> Vec<(ParticleId, ParticleId)> {
+    let min_image = ctx.geometry.min_image();
+    let mut out = Vec::new();
+    for a in 0..p.len() {
+        for b in a + 1..p.len() {
+            let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+            if ctx.law.is_colliding(diff, p.radius[a], p.radius[b]) {
+                out.push(ordered(p.id[a], p.id[b]));
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}

@@ -1,0 +1,168 @@
+//! Reference positions and the skin: how long a candidate list stays valid.
+//!
+//! A rebuild lists every pair within its collision distance plus a *skin* and records where
+//! each disc was. As long as no disc has moved [`ALLOWANCE_FRACTION`] of the skin from its
+//! reference, every pair that can collide is still on the list (two discs closed in by less
+//! than one skin together). The positions are stored as `f32` to save memory, with a bound on
+//! their rounding (the *slack*) taken off the allowance.
+
+use serde::{Deserialize, Serialize};
+
+use crate::law::Law;
+use crate::parallel::{CHUNK, Executor};
+
+/// The skin is at least this fraction of the interaction diameter of the finest level's
+/// largest disc. A wider skin lists more candidates and rebuilds less often.
+const SKIN_FRACTION: f64 = 0.75;
+/// And wide enough for the fastest disc to take this many substeps to use up the allowance.
+const MIN_SUBSTEPS_PER_REBUILD: f64 = 4.0;
+/// A rebuild follows once some disc has moved this fraction of the skin (a little under one
+/// half, so rounding in the distance tests can never matter).
+const ALLOWANCE_FRACTION: f64 = 0.49;
+
+/// How a rebuild sizes the skin.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Skin {
+    /// The larger of the size rule and `stride` (the fastest disc's distance per substep)
+    /// times the substeps wanted between rebuilds.
+    Stride(f64),
+    /// This skin.
+    Fixed(f64),
+}
+
+impl Skin {
+    /// The skin for discs whose finest level's largest radius is `finest_radius` and whose
+    /// largest radius is `largest_radius`.
+    pub(super) fn width(self, law: &Law, finest_radius: f64, largest_radius: f64) -> f64 {
+        match self {
+            Skin::Fixed(skin) => skin,
+            Skin::Stride(stride) => {
+                let by_motion = MIN_SUBSTEPS_PER_REBUILD * stride / ALLOWANCE_FRACTION;
+                let skin = f64::max(law.reach(SKIN_FRACTION * 2.0 * finest_radius), by_motion);
+                // Never wider than the largest interaction diameter: cells stay about
+                // disc-sized.
+                skin.min(law.interaction_diameter(largest_radius))
+            }
+        }
+    }
+}
+
+/// Where the discs were when the candidates were listed, and how far they may move before
+/// the list must be rebuilt. Part of a saved world: the rebuild schedule decides the storage
+/// order, and with it the last bits of sums such as the kinetic energy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct Reference {
+    /// Candidates are listed up to the collision distance plus this.
+    pub(super) skin: f64,
+    /// A bound on the rounding of the stored positions (they are `f32`, to save memory).
+    pub(super) slack: f64,
+    /// Reference positions in storage order; empty when there are none.
+    pub(super) x: Vec<f32>,
+    pub(super) y: Vec<f32>,
+}
+
+impl Reference {
+    /// The reference positions, when they match `count` discs.
+    pub(crate) fn positions(&self, count: usize) -> Option<(&[f32], &[f32])> {
+        (count > 0 && self.x.len() == count).then_some((&self.x, &self.y))
+    }
+
+    /// Whether candidates listed at the reference positions still hold every pair that can
+    /// collide, given the largest squared displacement of any disc since.
+    pub(crate) fn covers(&self, max_displacement2: f64) -> bool {
+        let allowance = ALLOWANCE_FRACTION * self.skin - self.slack;
+        allowance > 0.0 && max_displacement2 < allowance * allowance
+    }
+
+    /// Takes `x`, `y` (with candidates listed up to `skin`) as the reference; none when the
+    /// coordinates are so large that `f32` cannot place them within the skin (then every
+    /// step rebuilds).
+    pub(super) fn record(&mut self, x: &[f64], y: &[f64], skin: f64, exec: &Executor) {
+        let largest = f64::max(to_f32(x, &mut self.x, exec), to_f32(y, &mut self.y, exec));
+        self.skin = skin;
+        // Rounding to f32 moves a coordinate by at most half an f32 epsilon of it; the slack
+        // covers two discs.
+        self.slack = largest * f32::EPSILON as f64;
+        if x.is_empty() || !self.covers(0.0) {
+            *self = Reference::default();
+        }
+    }
+
+    /// Checks loaded data against the particle count; says what is wrong.
+    pub(crate) fn check(&self, count: usize) -> Result<(), String> {
+        let lengths_ok =
+            self.x.len() == self.y.len() && (self.x.is_empty() || self.x.len() == count);
+        if !lengths_ok {
+            return Err(format!(
+                "reference positions for {} and {} discs, but there are {count}",
+                self.x.len(),
+                self.y.len()
+            ));
+        }
+        let finite = self.x.iter().chain(&self.y).all(|v| v.is_finite());
+        if !(finite
+            && self.skin.is_finite()
+            && self.skin >= 0.0
+            && self.slack.is_finite()
+            && self.slack >= 0.0)
+        {
+            return Err("reference positions, skin or slack are not finite and >= 0".into());
+        }
+        Ok(())
+    }
+}
+
+/// Stores `v` as `f32` in `out` (in parallel chunks); returns the largest `|v|`.
+fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
+    out.resize(v.len(), 0.0);
+    let mut chunks: Vec<_> = out
+        .chunks_mut(16 * CHUNK)
+        .zip(v.chunks(16 * CHUNK))
+        .collect();
+    exec.map_mut(v.len(), &mut chunks, |_, (out, v)| {
+        let mut largest = 0.0f64;
+        for (o, &v) in out.iter_mut().zip(v.iter()) {
+            *o = v as f32;
+            largest = largest.max(v.abs());
+        }
+        largest
+    })
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reference_covers_less_than_half_the_skin() {
+        let r = Reference {
+            skin: 1.0,
+            slack: 0.0,
+            x: vec![0.0],
+            y: vec![0.0],
+        };
+        assert!(r.covers(0.0) && r.covers(0.48 * 0.48));
+        assert!(!r.covers(0.5 * 0.5) && !r.covers(f64::INFINITY));
+        assert!(
+            !Reference {
+                slack: 0.5,
+                ..r.clone()
+            }
+            .covers(0.0)
+        );
+        assert!(r.positions(1).is_some() && r.positions(2).is_none());
+    }
+
+    #[test]
+    fn the_skin_follows_the_fastest_disc_within_bounds() {
+        let law = Law::new(&crate::Config::default());
+        assert_eq!(Skin::Fixed(0.3).width(&law, 0.5, 2.0), 0.3);
+        // Slow discs: 0.75 of the finest diameter.
+        assert_eq!(Skin::Stride(0.0).width(&law, 0.5, 2.0), 0.75);
+        // Fast ones: 4 substeps of travel per allowance, capped at the largest diameter.
+        assert_eq!(Skin::Stride(0.2).width(&law, 0.5, 2.0), 4.0 * 0.2 / 0.49);
+        assert_eq!(Skin::Stride(10.0).width(&law, 0.5, 2.0), 4.0);
+    }
+}

@@ -1,0 +1,146 @@
+//! Binning: a stable counting sort of the discs by grid cell, and the blocks of cell rows
+//! whose candidates are listed together.
+//!
+//! The sort gives `order` (new index `k` holds old index `order[k]`) and `cell_start` (global
+//! cell `c` holds new indices `cell_start[c]..cell_start[c + 1]`). There is no fixed cell
+//! capacity: a cell holds however many discs fall in it. Storage is in cell order from the
+//! last rebuild except for discs that changed cell, so the passes walk memory in order.
+
+use std::ops::Range;
+
+use super::levels::{Level, LevelGrid};
+use crate::parallel::{CHUNK, Executor};
+
+/// Blocks aim to hold about this many discs: enough work per task, enough tasks.
+const DISCS_PER_BLOCK: f64 = 1024.0;
+
+/// Cell rows of one level whose candidates are listed together.
+#[derive(Clone, Debug)]
+pub(super) struct Block {
+    pub level: usize,
+    pub x: Range<usize>,
+    pub y: Range<usize>,
+}
+
+/// Sorts discs at `x`, `y` (of levels `level_of`, empty for one level) by global cell index
+/// into `order` and `cell_start`; `keys` is scratch of at least `x.len()`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn counting_sort(
+    grids: &[LevelGrid],
+    level_of: &[u8],
+    x: &[f64],
+    y: &[f64],
+    keys: &mut [u32],
+    cell_start: &mut Vec<u32>,
+    order: &mut Vec<u32>,
+    exec: &Executor,
+) {
+    let count = x.len();
+    let total_cells = grids.last().map_or(0, |g| g.cell_offset + g.n[0] * g.n[1]);
+    let keys = &mut keys[..count];
+    {
+        let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
+        exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
+            let base = *c * CHUNK;
+            for (k, key) in keys.iter_mut().enumerate() {
+                let i = base + k;
+                let g = if level_of.is_empty() {
+                    &grids[0]
+                } else {
+                    &grids[level_of[i] as usize]
+                };
+                let (cx, cy) = (g.coord(x[i], 0), g.coord(y[i], 1));
+                *key = g.cell_index(cx, cy) as u32;
+            }
+        });
+    }
+    cell_start.clear();
+    cell_start.resize(total_cells + 1, 0);
+    for &k in keys.iter() {
+        cell_start[k as usize + 1] += 1;
+    }
+    for c in 0..total_cells {
+        cell_start[c + 1] += cell_start[c];
+    }
+    order.clear();
+    order.resize(count, 0);
+    // Place each disc at its cell's next free slot; afterwards slot `c` holds the end of cell
+    // `c`, and one shift restores the starts.
+    for (i, &k) in keys.iter().enumerate() {
+        let slot = &mut cell_start[k as usize];
+        order[*slot as usize] = i as u32;
+        *slot += 1;
+    }
+    cell_start.copy_within(0..total_cells, 1);
+    cell_start[0] = 0;
+}
+
+/// Strips of whole cell rows, about [`DISCS_PER_BLOCK`] discs each, so a block's discs are
+/// one run of storage and its candidates come out in storage order.
+pub(super) fn blocks(grids: &[LevelGrid], levels: &[Level], out: &mut Vec<Block>) {
+    out.clear();
+    for (level, g) in grids.iter().enumerate() {
+        let per_row = levels[level].count as f64 / g.n[1] as f64;
+        let rows = (DISCS_PER_BLOCK / per_row).ceil().max(1.0) as usize;
+        for y0 in (0..g.n[1]).step_by(rows) {
+            out.push(Block {
+                level,
+                x: 0..g.n[0],
+                y: y0..(y0 + rows).min(g.n[1]),
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Config;
+    use crate::context::StepContext;
+    use crate::law::Law;
+    use std::cell::RefCell;
+
+    #[test]
+    fn the_sort_is_stable_and_groups_cells() {
+        let config = Config {
+            boundary: crate::Boundary::walls([0.0, 0.0], [4.0, 4.0]),
+            ..Config::default()
+        };
+        let exec = Executor::default();
+        let ctx = StepContext::new(&config, 0.1, &exec);
+        let x = [3.5, 0.5, 3.6, 0.6, 2.0];
+        let y = [0.5, 0.5, 0.5, 3.5, 0.5];
+        let radius = [0.5; 5];
+        let mut level_of = Vec::new();
+        let (levels, _) = super::super::levels::assign(&radius, &Law::new(&config), &mut level_of);
+        let scratch = RefCell::new(Vec::new());
+        let discs = super::super::levels::Discs {
+            level_of: &level_of,
+            scratch: &scratch,
+        };
+        // Cells of 1 + 0 skin: a 4×4 grid.
+        let grid = super::super::levels::level_grid([&x, &y], &ctx, 0.0, levels[0], 0, &discs);
+        assert_eq!(grid.n, [4, 4]);
+        let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; 5]);
+        let grids = [grid];
+        counting_sort(
+            &grids,
+            &level_of,
+            &x,
+            &y,
+            &mut keys,
+            &mut cell_start,
+            &mut order,
+            &exec,
+        );
+        // Row 0: cells 0 (disc 1), 2 (disc 4), 3 (discs 0 then 2, in storage order); row 3:
+        // cell 12 (disc 3).
+        assert_eq!(order, vec![1, 4, 0, 2, 3]);
+        assert_eq!(cell_start[..5], [0, 1, 1, 2, 4]);
+        assert_eq!(cell_start[16], 5);
+        let mut out = Vec::new();
+        blocks(&grids, &levels, &mut out);
+        assert_eq!(out.len(), 1);
+        assert_eq!((out[0].x.clone(), out[0].y.clone()), (0..4, 0..4));
+    }
+}

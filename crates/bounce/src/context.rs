@@ -1,0 +1,35 @@
+//! The step context: what every stage of one step reads, decoded from the configuration
+//! once per step instead of once per stage.
+
+use crate::config::Config;
+use crate::geometry::Geometry;
+use crate::law::Law;
+use crate::parallel::Executor;
+
+/// The substep length, the collision law, the geometry and where work runs.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepContext<'a> {
+    /// The substep: `dt / substeps`.
+    pub h: f64,
+    /// Uniform acceleration.
+    pub gravity: [f64; 2],
+    /// When discs collide and what that does.
+    pub law: Law,
+    /// The edge of the world.
+    pub geometry: Geometry,
+    /// Serial or a thread pool; results never depend on it.
+    pub exec: &'a Executor,
+}
+
+impl<'a> StepContext<'a> {
+    /// The context of a step of substep `h` under `config`.
+    pub(crate) fn new(config: &Config, h: f64, exec: &'a Executor) -> Self {
+        StepContext {
+            h,
+            gravity: config.gravity,
+            law: Law::new(config),
+            geometry: Geometry::new(config),
+            exec,
+        }
+    }
+}

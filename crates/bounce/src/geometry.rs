@@ -1,0 +1,363 @@
+//! The geometry of the world: its boundary, and everything that depends on it.
+//!
+//! [`Geometry`] is built once from [`Config::boundary`] and answers every question the other
+//! stages have about the edge of the world:
+//! - **admission**: may a disc of this radius sit here ([`Geometry::admit`])?
+//! - **distances**: `p1 - p2`, as the minimum image in a periodic box ([`MinImage`]);
+//! - **the edge**: walls reflect a disc and record the impulse, a periodic box wraps it
+//!   ([`reflect`], [`wrap`], applied per disc by `integrate`);
+//! - **grids**: the region the broadphase grids cover and whether they wrap
+//!   ([`Geometry::grid_extent`]), and the origin and period of the contact order grid
+//!   ([`Geometry::order_axis`]).
+//!
+//! Adding a boundary kind means a [`crate::Boundary`] variant and its answers here.
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::{Boundary, Config};
+use crate::law::Law;
+use crate::particles::ParticleError;
+
+/// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
+/// Divide by the elapsed time and the wall's length for the pressure.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallImpulse {
+    /// The wall at `min[0]`.
+    pub left: f64,
+    /// The wall at `max[0]`.
+    pub right: f64,
+    /// The wall at `min[1]`.
+    pub bottom: f64,
+    /// The wall at `max[1]`.
+    pub top: f64,
+}
+
+impl WallImpulse {
+    /// Sum over the four walls.
+    pub fn total(&self) -> f64 {
+        self.left + self.right + self.bottom + self.top
+    }
+
+    pub(crate) fn add(&mut self, other: &WallImpulse) {
+        self.left += other.left;
+        self.right += other.right;
+        self.bottom += other.bottom;
+        self.top += other.top;
+    }
+}
+
+/// The boundary in the form the stages use, with the derived quantities precomputed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Geometry {
+    /// No edge.
+    Open,
+    /// Reflecting walls around `[min, max]`.
+    Walls {
+        min: [f64; 2],
+        max: [f64; 2],
+        /// The walls' restitution.
+        restitution: f64,
+    },
+    /// A periodic box `[min, min + size)`.
+    Periodic {
+        min: [f64; 2],
+        max: [f64; 2],
+        size: [f64; 2],
+    },
+}
+
+/// How a grid covers the world along both axes: from `origin`, `width` wide, wrapping or not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Extent {
+    pub origin: [f64; 2],
+    pub width: [f64; 2],
+    pub wrap: bool,
+}
+
+/// One axis of the contact order grid: where cells start, and the period when it wraps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct OrderAxisFrame {
+    pub origin: f64,
+    pub period: Option<f64>,
+}
+
+impl Geometry {
+    pub(crate) fn new(config: &Config) -> Self {
+        match config.boundary {
+            Boundary::Open => Geometry::Open,
+            Boundary::Walls { min, max, .. } => Geometry::Walls {
+                min,
+                max,
+                restitution: config.wall_restitution(),
+            },
+            Boundary::Periodic { min, max } => Geometry::Periodic {
+                min,
+                max,
+                size: [max[0] - min[0], max[1] - min[1]],
+            },
+        }
+    }
+
+    /// The box, when there is one.
+    pub(crate) fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
+        match *self {
+            Geometry::Open => None,
+            Geometry::Walls { min, max, .. } | Geometry::Periodic { min, max, .. } => {
+                Some((min, max))
+            }
+        }
+    }
+
+    /// Whether positions wrap.
+    pub(crate) fn is_periodic(&self) -> bool {
+        matches!(self, Geometry::Periodic { .. })
+    }
+
+    /// The minimum-image difference for this geometry.
+    #[inline]
+    pub(crate) fn min_image(&self) -> MinImage {
+        match *self {
+            Geometry::Periodic { size, .. } => MinImage(Some(size)),
+            _ => MinImage(None),
+        }
+    }
+
+    /// Checks that a disc of radius `r` may be placed at `position`: inside the box, and
+    /// small enough for it.
+    pub(crate) fn admit(&self, position: [f64; 2], r: f64, law: &Law) -> Result<(), ParticleError> {
+        let [x, y] = position;
+        let outside = match *self {
+            Geometry::Open => return Ok(()),
+            // A periodic box is half-open: `max` is the same place as `min`.
+            Geometry::Periodic { min, max, .. } => {
+                !(x >= min[0] && x < max[0] && y >= min[1] && y < max[1])
+            }
+            Geometry::Walls { min, max, .. } => {
+                !(x >= min[0] && x <= max[0] && y >= min[1] && y <= max[1])
+            }
+        };
+        if outside {
+            let (min, max) = self.bounds().expect("a box");
+            return Err(ParticleError::OutsideBox { position, min, max });
+        }
+        self.fits_size(r, law)
+    }
+
+    /// Checks that a disc of radius `r` fits the box (walls: its diameter fits between them;
+    /// periodic: its interaction diameter is at most half a side, so only one image of a
+    /// neighbour is within reach).
+    pub(crate) fn fits_size(&self, r: f64, law: &Law) -> Result<(), ParticleError> {
+        let Some((min, max)) = self.bounds() else {
+            return Ok(());
+        };
+        let size = [max[0] - min[0], max[1] - min[1]];
+        let smaller_side = size[0].min(size[1]);
+        match self {
+            Geometry::Walls { .. } if 2.0 * r > smaller_side => Err(ParticleError::TooLarge {
+                radius: r,
+                size,
+                rule: "the diameter must fit between the walls",
+            }),
+            Geometry::Periodic { .. } if law.interaction_diameter(r) > smaller_side / 2.0 => {
+                Err(ParticleError::TooLarge {
+                    radius: r,
+                    size,
+                    rule: "2 r collision_radius_scale must be <= half of each side (minimum image)",
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The region a broadphase grid covers and whether it wraps; `None` in an open world,
+    /// where the grid follows the discs.
+    pub(crate) fn grid_extent(&self) -> Option<Extent> {
+        match *self {
+            Geometry::Open => None,
+            Geometry::Walls { min, max, .. } => Some(Extent {
+                origin: min,
+                width: [max[0] - min[0], max[1] - min[1]],
+                wrap: false,
+            }),
+            Geometry::Periodic { min, max, .. } => Some(Extent {
+                origin: min,
+                width: [max[0] - min[0], max[1] - min[1]],
+                wrap: true,
+            }),
+        }
+    }
+
+    /// Where the contact order grid's cells start along `axis`, and its period in a
+    /// periodic box. Fixed by the configuration alone, so the order never depends on where
+    /// the discs happen to be.
+    pub(crate) fn order_axis(&self, axis: usize) -> OrderAxisFrame {
+        match *self {
+            Geometry::Periodic { min, max, .. } => OrderAxisFrame {
+                origin: min[axis],
+                period: Some(max[axis] - min[axis]),
+            },
+            Geometry::Walls { min, .. } => OrderAxisFrame {
+                origin: min[axis],
+                period: None,
+            },
+            Geometry::Open => OrderAxisFrame {
+                origin: 0.0,
+                period: None,
+            },
+        }
+    }
+}
+
+/// `p1 - p2`, as the minimum image when the box is periodic (`Some(size)`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MinImage(Option<[f64; 2]>);
+
+impl MinImage {
+    /// Whether positions wrap.
+    #[inline]
+    pub(crate) fn is_periodic(&self) -> bool {
+        self.0.is_some()
+    }
+
+    /// `p1 - p2`, as the minimum image in a periodic box. Positions may sit slightly outside
+    /// the box after an overlap push; one correction per axis still finds the nearest image.
+    #[inline]
+    pub(crate) fn diff(&self, x1: f64, y1: f64, x2: f64, y2: f64) -> [f64; 2] {
+        let (mut dx, mut dy) = (x1 - x2, y1 - y2);
+        if let Some([lx, ly]) = self.0 {
+            if dx > 0.5 * lx {
+                dx -= lx;
+            } else if dx < -0.5 * lx {
+                dx += lx;
+            }
+            if dy > 0.5 * ly {
+                dy -= ly;
+            } else if dy < -0.5 * ly {
+                dy += ly;
+            }
+        }
+        [dx, dy]
+    }
+}
+
+/// One axis of the walls; returns the impulse given to the low and the high wall.
+///
+/// A disc whose centre is within its radius of a wall is put back at that distance, and its
+/// normal velocity, if it still moves into the wall, is reversed and scaled by `e`.
+#[inline]
+pub(crate) fn reflect(
+    x: &mut f64,
+    v: &mut f64,
+    r: f64,
+    lo: f64,
+    hi: f64,
+    e: f64,
+    m: f64,
+) -> (f64, f64) {
+    if *x - r < lo {
+        *x = lo + r;
+        if *v < 0.0 {
+            let new_v = -*v * e;
+            let impulse = m * (new_v - *v);
+            *v = new_v;
+            return (impulse, 0.0);
+        }
+    } else if *x + r > hi {
+        *x = hi - r;
+        if *v > 0.0 {
+            let new_v = -*v * e;
+            let impulse = m * (*v - new_v);
+            *v = new_v;
+            return (0.0, impulse);
+        }
+    }
+    (0.0, 0.0)
+}
+
+/// One axis of the periodic box: back into `[lo, lo + size)`.
+#[inline]
+pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) {
+    if *x < lo {
+        *x += size;
+    } else if *x >= lo + size {
+        *x -= size;
+    }
+    // A disc faster than a box width per substep: reduce fully.
+    if !(*x >= lo && *x < lo + size) {
+        *x = lo + (*x - lo).rem_euclid(size);
+        if *x >= lo + size {
+            *x = lo;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_wall_reflects_and_records_the_impulse() {
+        let (mut x, mut v) = (0.2, -3.0);
+        let (low, high) = reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 0.5, 2.0);
+        assert_eq!((x, v), (0.5, 1.5));
+        assert_eq!((low, high), (2.0 * 4.5, 0.0));
+    }
+
+    #[test]
+    fn a_disc_leaving_the_wall_keeps_its_velocity() {
+        let (mut x, mut v) = (9.8, -1.0);
+        assert_eq!(
+            reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 1.0, 1.0),
+            (0.0, 0.0)
+        );
+        assert_eq!((x, v), (9.5, -1.0));
+    }
+
+    #[test]
+    fn wrapping_lands_in_the_half_open_box() {
+        for (x0, want) in [
+            (-0.5, 9.5),
+            (10.0, 0.0),
+            (10.5, 0.5),
+            (35.0, 5.0),
+            (-25.0, 5.0),
+        ] {
+            let mut x = x0;
+            wrap(&mut x, 0.0, 10.0);
+            assert_eq!(x, want, "from {x0}");
+        }
+        let mut tiny = -1e-17;
+        wrap(&mut tiny, 0.0, 10.0);
+        assert!((0.0..10.0).contains(&tiny));
+    }
+
+    #[test]
+    fn minimum_image_picks_the_nearest_copy() {
+        let p = MinImage(Some([10.0, 10.0]));
+        assert_eq!(p.diff(9.5, 0.5, 0.5, 9.5), [-1.0, 1.0]);
+        assert_eq!(p.diff(3.0, 3.0, 1.0, 1.0), [2.0, 2.0]);
+        // Pushed slightly outside the box.
+        assert_eq!(p.diff(10.25, 5.0, 0.25, 5.0), [0.0, 0.0]);
+    }
+
+    #[test]
+    fn admission_follows_the_box() {
+        let law = Law::new(&Config::default());
+        let walls = Geometry::new(&Config {
+            boundary: Boundary::walls([0.0, 0.0], [10.0, 4.0]),
+            ..Config::default()
+        });
+        assert!(walls.admit([10.0, 4.0], 1.0, &law).is_ok());
+        assert!(walls.admit([10.1, 4.0], 1.0, &law).is_err());
+        assert!(walls.admit([5.0, 2.0], 2.1, &law).is_err());
+        let periodic = Geometry::new(&Config {
+            boundary: Boundary::periodic([0.0, 0.0], [10.0, 4.0]),
+            ..Config::default()
+        });
+        // Half-open, and the interaction diameter at most half a side.
+        assert!(periodic.admit([10.0, 2.0], 0.5, &law).is_err());
+        assert!(periodic.admit([5.0, 2.0], 1.0, &law).is_ok());
+        assert!(periodic.admit([5.0, 2.0], 1.01, &law).is_err());
+        assert!(Geometry::Open.admit([1e300, -1e300], 1e300, &law).is_ok());
+    }
+}
