@@ -1,6 +1,7 @@
 // Drives the built page in headless Chromium (Debian's /usr/bin/chromium) and prints one JSON
-// object for crates/bounce-cli/tests/web.rs to check. Usage: node e2e.mjs URL SCREENSHOT.png MODE
-// where MODE is "webgl" (the viewer) or "fallback" (the 2D canvas page).
+// object for crates/bounce-web/tests/browser.rs to check. Usage: node e2e.mjs URL SCREENSHOT.png
+// MODE where MODE is "webgl" (the viewer), "fallback" (the 2D canvas page), "fallback-scenario"
+// (the 2D canvas with ?scenario=mixing) or "fps".
 import { chromium } from "playwright-core";
 import { mkdtempSync } from "node:fs";
 import { tmpdir } from "node:os";
@@ -67,6 +68,14 @@ try {
     await page.evaluate((t) => { window.bounce.open_text("gas-20k", t); window.bounce.set_running(true); }, text);
     await sleep(6000);
     result.status = await page.evaluate(() => window.bounce.status());
+    await page.screenshot({ path: screenshot });
+  } else if (mode === "fallback-scenario") {
+    // The 2D canvas honours ?scenario= and the scenario's colours.
+    await page.goto(`${url}/index.html?scenario=mixing&no-webgl`);
+    await page.waitForFunction(() => window.bounceFallback !== undefined, null, { timeout: 90000 });
+    await pastStep(page, "bounceFallback", 2);
+    await page.click("#play");
+    result.status = await page.evaluate(() => window.bounceFallback.status());
     await page.screenshot({ path: screenshot });
   } else {
     await page.goto(`${url}/index.html?scenario=gas&no-webgl`);

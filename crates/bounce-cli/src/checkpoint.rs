@@ -2,18 +2,15 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Result, anyhow};
 use bounce::World;
 
 /// Writes the world to `path` atomically.
 pub fn save(world: &World, path: &Path) -> Result<()> {
-    let bytes = bounce_scenario::checkpoint::encode(world).map_err(|e| anyhow!(e))?;
-    crate::atomic::write(path, &bytes)
+    bounce_scenario::checkpoint::save(world, path).map_err(|e| anyhow!(e))
 }
 
 /// Reads a world written by [`save`]; every problem names the file.
 pub fn load(path: &Path) -> Result<World> {
-    let bytes = std::fs::read(path)
-        .with_context(|| format!("cannot read checkpoint {}", path.display()))?;
-    bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string()).map_err(|e| anyhow!(e))
+    bounce_scenario::checkpoint::load(path).map_err(|e| anyhow!(e))
 }

@@ -16,7 +16,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use bounce::{Boundary, World};
 
-use crate::atomic::AtomicFile;
+use bounce_scenario::atomic::AtomicFile;
 
 const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
 const HEADER_SIZE: u64 = 256;
@@ -212,7 +212,7 @@ impl GsdWriter {
         w.seek(SeekFrom::Start(0))
             .context("cannot write the GSD header")?;
         w.write_all(&header)?;
-        self.file.commit()
+        Ok(self.file.commit()?)
     }
 }
 

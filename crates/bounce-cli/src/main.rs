@@ -1,6 +1,5 @@
 //! `bounce`: run scenarios headless, start new ones from templates, check files.
 
-mod atomic;
 mod checkpoint;
 mod gsd;
 mod plots;
@@ -140,7 +139,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                     if path.exists() && !force {
                         bail!("{} exists; use --force to overwrite it", path.display());
                     }
-                    atomic::write(&path, text.as_bytes())?;
+                    bounce_scenario::atomic::write(&path, text.as_bytes())?;
                     eprintln!(
                         "wrote {} (run it: bounce run {})",
                         path.display(),
@@ -155,26 +154,38 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             headless_frames,
             screenshot,
         } => {
-            let headless = headless_frames
-                .zip(screenshot)
-                .map(|(frames, screenshot)| bounce_viewer::Headless { frames, screenshot });
-            bounce_viewer::run(bounce_viewer::Options { scenario, headless })
-                .map_err(|e| anyhow::anyhow!(e))?;
+            view(scenario, headless_frames.zip(screenshot))?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Check { scenario } => {
-            let file = scenario.display().to_string();
-            let parsed = bounce_scenario::load(&scenario)?;
-            let source = std::fs::read_to_string(&scenario)?;
-            let built = parsed.build(&source, &file)?;
+            let session = bounce_scenario::Session::load(&scenario)?;
             println!(
-                "{file}: ok: {} particles, {} steps of dt {}, {:?} boundary",
-                built.world.len(),
-                parsed.time.steps,
-                parsed.time.dt,
-                parsed.world.boundary
+                "{}: ok: {} particles, {} steps of dt {}, {:?} boundary",
+                session.origin,
+                session.world.len(),
+                session.steps,
+                session.dt,
+                session.scenario.world.boundary
             );
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// `bounce view`: the window, when this bounce was built with the viewer.
+#[cfg(feature = "view")]
+fn view(scenario: Option<PathBuf>, headless: Option<(u32, PathBuf)>) -> Result<()> {
+    let headless =
+        headless.map(|(frames, screenshot)| bounce_viewer::Headless { frames, screenshot });
+    bounce_viewer::run(bounce_viewer::Options { scenario, headless })
+        .map_err(|e| anyhow::anyhow!(e))
+}
+
+/// `bounce view` in a build without the viewer (`--no-default-features`, for clusters).
+#[cfg(not(feature = "view"))]
+fn view(_scenario: Option<PathBuf>, _headless: Option<(u32, PathBuf)>) -> Result<()> {
+    bail!(
+        "this bounce was built without the viewer (cargo feature `view`); \
+         install it with: cargo install --path crates/bounce-cli"
+    )
 }

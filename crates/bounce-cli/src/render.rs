@@ -11,7 +11,7 @@ use tiny_skia::{
     Transform,
 };
 
-use crate::atomic::AtomicFile;
+use bounce_scenario::atomic::AtomicFile;
 
 const BACKGROUND: Rgb = [17, 20, 26];
 const BOX_EDGE: Rgb = [90, 96, 110];
@@ -28,24 +28,15 @@ pub struct Painter {
 }
 
 impl Painter {
-    /// A painter for `view` (default: the box, or the particles' extent when open) at `width`
-    /// pixels, colouring with scales fixed from the world as it is now.
+    /// A painter for the region `view` (the session's) at `width` pixels, colouring with
+    /// scales fixed from the world as it is now.
     pub fn new(
         world: &World,
-        view: Option<([f64; 2], [f64; 2])>,
+        (min, max): ([f64; 2], [f64; 2]),
         width: u32,
         colour_by: ColorBy,
         colours: Vec<Option<Rgb>>,
     ) -> Self {
-        let p = world.particles();
-        let (min, max) = view
-            .or(world.config().boundary.bounds())
-            .unwrap_or_else(|| {
-                let r = p.radius().iter().copied().fold(0.0, f64::max);
-                let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - 2.0 * r;
-                let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 2.0 * r;
-                ([lo(p.x()), lo(p.y())], [hi(p.x()), hi(p.y())])
-            });
         let aspect = (max[1] - min[1]) / (max[0] - min[0]);
         let height = ((width as f64 * aspect).round() as u32).clamp(16, 8192);
         Painter {
@@ -137,7 +128,7 @@ pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<()> {
     let bytes = pixmap
         .encode_png()
         .with_context(|| format!("cannot encode {}", path.display()))?;
-    crate::atomic::write(path, &bytes)
+    Ok(bounce_scenario::atomic::write(path, &bytes)?)
 }
 
 /// An animated GIF built frame by frame.
@@ -194,6 +185,6 @@ impl GifWriter {
     /// Completes the file.
     pub fn finish(self) -> Result<()> {
         let file = self.encoder.into_inner().context("cannot finish the GIF")?;
-        file.commit()
+        Ok(file.commit()?)
     }
 }

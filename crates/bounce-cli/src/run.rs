@@ -6,9 +6,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use std::ops::ControlFlow;
+
+use anyhow::{Context, Result, anyhow, bail};
 use bounce::World;
-use bounce_scenario::{ColorBy, Scenario};
+use bounce_scenario::Session;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
@@ -36,34 +38,22 @@ pub enum Outcome {
 /// Runs the scenario. Ctrl-C finishes the current step, writes everything and returns
 /// [`Outcome::Interrupted`].
 pub fn run(args: &RunArgs, interrupted: Arc<AtomicBool>) -> Result<Outcome> {
-    let file = args.scenario.display().to_string();
-    let scenario = bounce_scenario::load(&args.scenario)?;
-    let source = std::fs::read_to_string(&args.scenario)?;
+    let mut session = Session::load(&args.scenario)?;
     prepare_out_dir(&args.out)?;
-
-    let built = scenario.build(&source, &file)?;
-    let mut world = match &args.resume {
-        Some(path) => {
-            let world = checkpoint::load(path)?;
-            if world.len() != built.world.len() {
-                bail!(
-                    "{}: the checkpoint has {} particles but {file} makes {}",
-                    path.display(),
-                    world.len(),
-                    built.world.len()
-                );
-            }
-            world
-        }
-        None => built.world,
-    };
-    world
+    if let Some(path) = &args.resume {
+        let world = checkpoint::load(path)?;
+        session
+            .resume(world, &path.display().to_string())
+            .map_err(|e| anyhow!(e))?;
+    }
+    session
+        .world
         .set_threads(args.threads)
         .context("cannot start the worker threads")?;
-    let total = args.steps.unwrap_or(scenario.time.steps);
-    let dt = scenario.time.dt;
+    let total = args.steps.unwrap_or(session.steps);
 
-    let mut outputs = Outputs::create(&scenario, &world, built.colours, &args.out)?;
+    let mut outputs = Outputs::create(&session, &args.out)?;
+    let world = &session.world;
     let start_step = world.step_count();
     if start_step >= total {
         bail!(
@@ -76,23 +66,27 @@ pub fn run(args: &RunArgs, interrupted: Arc<AtomicBool>) -> Result<Outcome> {
     let progress = progress_bar(total - start_step, args.quiet);
     let clock = Instant::now();
     let mut collisions = 0usize;
-    let mut outcome = Outcome::Finished;
-    while world.step_count() < total {
-        let stats = *world.step(dt)?;
+    let reached = session.run_until(total, |world, stats| -> Result<_> {
         collisions += stats.pairs;
-        outputs.stats.accumulate(&stats);
-        let last = world.step_count() == total;
-        outputs.record(&world, last)?;
+        outputs.stats.accumulate(stats);
+        outputs.record(world, world.step_count() == total)?;
         progress.inc(1);
-        if interrupted.load(Ordering::SeqCst) && !last {
-            outcome = Outcome::Interrupted;
-            break;
-        }
-    }
+        Ok(if interrupted.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        })
+    })?;
+    let outcome = if reached {
+        Outcome::Finished
+    } else {
+        Outcome::Interrupted
+    };
+    let world = &session.world;
     progress.finish_and_clear();
     let wall = clock.elapsed().as_secs_f64();
     let ran = world.step_count() - start_step;
-    outputs.finish(&world)?;
+    outputs.finish(world)?;
 
     let energy_end = world.stats().kinetic_energy;
     let change = if energy_start != 0.0 {
@@ -102,7 +96,7 @@ pub fn run(args: &RunArgs, interrupted: Arc<AtomicBool>) -> Result<Outcome> {
     };
     println!(
         "{}: {} particles, {ran} steps (to step {}) in {wall:.2} s, {:.1} steps/s, {collisions} collisions, relative energy change {change}, state hash {:016x}",
-        scenario.name.as_deref().unwrap_or(&file),
+        session.title,
         world.len(),
         world.step_count(),
         ran as f64 / wall.max(1e-9),
@@ -154,22 +148,17 @@ struct Outputs {
 }
 
 impl Outputs {
-    fn create(
-        scenario: &Scenario,
-        world: &World,
-        colours: Vec<Option<bounce_scenario::Rgb>>,
-        dir: &Path,
-    ) -> Result<Self> {
-        let spec = scenario.output.clone();
+    fn create(session: &Session, dir: &Path) -> Result<Self> {
+        let (spec, world) = (session.output.clone(), &session.world);
         let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
-        let colour_by = spec.color_by.unwrap_or(if scenario.has_colours() {
-            ColorBy::Color
-        } else {
-            ColorBy::Speed
-        });
         let painter = (spec.frame_every > 0).then(|| {
-            let view = spec.view.map(|v| (v.min, v.max));
-            Painter::new(world, view, spec.frame_width, colour_by, colours)
+            Painter::new(
+                world,
+                session.view,
+                spec.frame_width,
+                session.colour_by,
+                session.colours.clone(),
+            )
         });
         if painter.is_some() {
             std::fs::create_dir_all(dir.join("frames"))

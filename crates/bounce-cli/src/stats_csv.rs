@@ -9,7 +9,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use bounce::{StepStats, World};
 
-use crate::atomic::AtomicFile;
+use bounce_scenario::atomic::AtomicFile;
 
 /// The header, in order.
 pub const COLUMNS: [&str; 9] = [
@@ -82,6 +82,6 @@ impl StatsCsv {
             .into_inner()
             .map_err(|e| e.into_error())
             .context("cannot write stats.csv")?;
-        file.commit()
+        Ok(file.commit()?)
     }
 }

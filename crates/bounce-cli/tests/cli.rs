@@ -179,6 +179,9 @@ fn png_frames_have_the_right_size_and_discs_where_the_particles_are() {
     );
 }
 
+/// Read back by HOOMD's own `gsd` package: needs Python with `gsd`, which `scripts/test`
+/// installs into a virtual environment and names in `BOUNCE_PYTHON`.
+#[cfg(feature = "system-tests")]
 #[test]
 fn gsd_trajectory_reads_back_with_the_gsd_package() {
     let s = Scratch::new();
@@ -205,7 +208,7 @@ with gsd.hoomd.open(sys.argv[1], "r") as t:
     print("ok", energies[0])
 "#;
     let (code, stdout, stderr) = output(
-        Command::new("python3")
+        Command::new(std::env::var("BOUNCE_PYTHON").unwrap_or_else(|_| "python3".into()))
             .arg("-c")
             .arg(script)
             .arg(s.path("out/trajectory.gsd")),

@@ -1,5 +1,9 @@
 //! `bounce view` tested as a person would: the real window under Xvfb (Mesa's software
 //! OpenGL), a screenshot, and the pixels checked against where the discs are.
+//!
+//! Needs Xvfb and Mesa: `scripts/test` installs them and runs this with
+//! `--features system-tests` (and the viewer, a default feature).
+#![cfg(all(feature = "system-tests", feature = "view"))]
 
 use std::path::Path;
 use std::process::Command;

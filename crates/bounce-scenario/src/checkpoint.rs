@@ -38,6 +38,20 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<World, String> {
     postcard::from_bytes(&rest[4..]).map_err(|e| format!("{name}: corrupt checkpoint: {e}"))
 }
 
+/// Writes a checkpoint of `world` to `path` atomically (whole or not at all).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn save(world: &World, path: &std::path::Path) -> Result<(), String> {
+    let bytes = encode(world)?;
+    crate::atomic::write(path, &bytes).map_err(|e| e.to_string())
+}
+
+/// Reads a checkpoint written by [`save`]; every problem names the file.
+pub fn load(path: &std::path::Path) -> Result<World, String> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| format!("cannot read checkpoint {}: {e}", path.display()))?;
+    decode(&bytes, &path.display().to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

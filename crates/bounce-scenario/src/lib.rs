@@ -2,24 +2,30 @@
 //!
 //! [`load`] parses a file and validates everything it can, collecting *every* problem with
 //! its line instead of stopping at the first; [`Scenario::build`] then places the particles
-//! and returns a ready [`bounce::World`] and the discs' colours. The CLI, the viewer, the
-//! benchmarks and the tests all read scenarios through this crate.
+//! and returns a ready [`bounce::World`] and the discs' colours. [`Session`] wraps that into
+//! what every front end runs (the CLI, the desktop viewer, the web page): world, colours,
+//! time step, view and output plan, the run loop and checkpoints.
 //!
-//! The format, with every default, is documented in `scenarios/README.md` and by
+//! The format, with every default, is documented in the README ("Scenario files") and by
 //! `bounce new gas`.
 
 use std::path::Path;
 
+use bounce::law::Law;
 use bounce::scene::{self, Gas, Lattice, Speeds};
 use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUpdate, World};
 use serde::Deserialize;
 use toml::Spanned;
 
 pub mod analysis;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod atomic;
 pub mod checkpoint;
 mod colour;
 pub mod palette;
+mod session;
 pub use colour::{Rgb, parse_colour, ramp};
+pub use session::{Session, view_bounds};
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
 pub const TEMPLATES: [(&str, &str); 6] = [
@@ -216,7 +222,7 @@ pub struct BlockSpec {
     pub max: [f64; 2],
     /// Radius of every disc.
     pub radius: f64,
-    /// Centre spacing; default just over the collision distance `2 r collision_radius_scale`.
+    /// Centre spacing; default just over the collision distance of two of these discs.
     #[serde(default)]
     pub spacing: Option<f64>,
     /// Common velocity.
@@ -488,7 +494,7 @@ impl Scenario {
             + self
                 .block
                 .iter()
-                .map(|b| block_counts(b.get_ref(), self.world.collision_radius_scale))
+                .map(|b| block_counts(b.get_ref(), &Law::new(&self.config())))
                 .map(|[x, y]| x * y)
                 .sum::<usize>()
     }
@@ -593,7 +599,7 @@ impl Scenario {
                         block.radius
                     ),
                 );
-            } else if block_counts(block, w.collision_radius_scale).contains(&0) {
+            } else if block_counts(block, &Law::new(&self.config())).contains(&0) {
                 at(
                     line,
                     format!(
@@ -729,11 +735,12 @@ impl Scenario {
                 }
                 Entry::Block(k) => {
                     let spec = self.block[k].get_ref();
-                    let spacing = block_spacing(spec, config.collision_radius_scale);
+                    let law = Law::new(&config);
+                    let spacing = block_spacing(spec, &law);
                     let discs = scene::lattice(&Lattice {
                         origin: [spec.min[0] + spec.radius, spec.min[1] + spec.radius],
                         spacing: [spacing, spacing],
-                        counts: block_counts(spec, config.collision_radius_scale),
+                        counts: block_counts(spec, &law),
                         radius: spec.radius,
                         velocity: spec.velocity,
                     });
@@ -764,13 +771,15 @@ enum Entry {
     Disc(usize),
 }
 
-fn block_spacing(block: &BlockSpec, scale: f64) -> f64 {
+fn block_spacing(block: &BlockSpec, law: &Law) -> f64 {
     // Just beyond the collision distance, so the block starts without contacts.
-    block.spacing.unwrap_or(2.0 * block.radius * scale * 1.001)
+    block
+        .spacing
+        .unwrap_or(law.interaction_diameter(block.radius) * 1.001)
 }
 
-fn block_counts(block: &BlockSpec, scale: f64) -> [usize; 2] {
-    let spacing = block_spacing(block, scale);
+fn block_counts(block: &BlockSpec, law: &Law) -> [usize; 2] {
+    let spacing = block_spacing(block, law);
     [0, 1].map(|a| {
         let room = block.max[a] - block.min[a] - 2.0 * block.radius;
         if room.is_finite() && room >= 0.0 && spacing > 0.0 {

@@ -1,11 +1,12 @@
 //! The viewer application: state, controls, mouse and keyboard, panels.
 
 use std::collections::VecDeque;
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use bounce::{MassModel, Particle, RestitutionModel, VelocityUpdate, World};
-use bounce_scenario::{ColorBy, Rgb};
+use bounce_scenario::{ColorBy, Session};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
 use web_time::Instant;
@@ -16,18 +17,10 @@ use crate::{DEMO, Headless};
 /// Samples kept for the energy and momentum plot.
 const HISTORY: usize = 600;
 
-/// Everything loaded from one scenario text: what `r` resets to.
-struct Source {
-    name: String,
-    text: String,
-}
-
 /// The running simulation and the view on it.
 pub struct ViewerApp {
-    source: Source,
-    world: World,
-    colours: Vec<Option<Rgb>>,
-    dt: f64,
+    /// The scenario running: world, colours, dt, view; what `r` resets to.
+    session: Session,
     running: bool,
     steps_per_frame: u32,
     colour_by: ColorBy,
@@ -67,14 +60,6 @@ struct HeadlessState {
 /// Where a headless run leaves its result for [`crate::run`].
 pub type Outcome = Arc<Mutex<Result<(), String>>>;
 
-/// What a scenario text loads into.
-struct Loaded {
-    world: World,
-    colours: Vec<Option<Rgb>>,
-    dt: f64,
-    colour_by: ColorBy,
-}
-
 impl ViewerApp {
     /// The app for a scenario (or the built-in demo).
     pub fn new(
@@ -82,19 +67,12 @@ impl ViewerApp {
         headless: Option<(Headless, Outcome)>,
     ) -> Result<Self, String> {
         let (name, text) = scenario.unwrap_or_else(|| ("built-in demo".into(), DEMO.into()));
-        let Loaded {
-            world,
-            colours,
-            dt,
-            colour_by,
-        } = load(&name, &text)?;
-        let palette = Palette::for_world(&world, colour_by, colours.clone());
+        let session = Session::from_text(&name, &text).map_err(|e| e.to_string())?;
+        let colour_by = session.colour_by;
+        let palette = Palette::for_world(&session.world, colour_by, session.colours.clone());
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let mut app = ViewerApp {
-            source: Source { name, text },
-            world,
-            colours,
-            dt,
+            session,
             running: true,
             steps_per_frame: 1,
             colour_by,
@@ -126,13 +104,16 @@ impl ViewerApp {
                 result,
             }),
         };
-        app.world.set_threads(threads).map_err(|e| e.to_string())?;
+        app.session
+            .world
+            .set_threads(threads)
+            .map_err(|e| e.to_string())?;
         app.spawn_radius = app.typical_radius();
         Ok(app)
     }
 
     fn typical_radius(&self) -> f64 {
-        let r = self.world.particles().radius();
+        let r = self.session.world.particles().radius();
         if r.is_empty() {
             0.5
         } else {
@@ -142,45 +123,44 @@ impl ViewerApp {
 
     /// Replaces the simulation with a scenario text.
     fn open(&mut self, name: String, text: String) {
-        match load(&name, &text) {
-            Ok(Loaded {
-                world,
-                colours,
-                dt,
-                colour_by,
-            }) => {
-                let threads = self.world.threads();
-                self.world = world;
-                let _ = self.world.set_threads(threads);
-                self.colours = colours;
-                self.dt = dt;
-                self.colour_by = colour_by;
-                self.source = Source { name, text };
+        match Session::from_text(&name, &text) {
+            Ok(session) => {
+                let threads = self.session.world.threads();
+                self.session = session;
+                let _ = self.session.world.set_threads(threads);
+                self.colour_by = self.session.colour_by;
                 self.after_reload();
-                self.message = format!("opened {}", self.source.name);
+                self.message = format!("opened {}", self.session.origin);
             }
-            Err(e) => self.message = e,
+            Err(e) => self.message = e.to_string(),
         }
     }
 
     fn after_reload(&mut self) {
-        self.palette = Palette::for_world(&self.world, self.colour_by, self.colours.clone());
+        self.palette = Palette::for_world(
+            &self.session.world,
+            self.colour_by,
+            self.session.colours.clone(),
+        );
         self.view = None;
         self.history.clear();
         self.spawn_radius = self.typical_radius();
     }
 
     fn reset(&mut self) {
-        let (name, text) = (self.source.name.clone(), self.source.text.clone());
-        self.open(name, text);
-        self.message = "reset".into();
+        self.message = match self.session.reset() {
+            Ok(()) => "reset".into(),
+            Err(e) => e.to_string(),
+        };
+        self.colour_by = self.session.colour_by;
+        self.after_reload();
     }
 
     fn step(&mut self) {
         let start = Instant::now();
         let mut pairs = 0;
         for _ in 0..self.steps_per_frame {
-            match self.world.step(self.dt) {
+            match self.session.world.step(self.session.dt) {
                 Ok(stats) => pairs += stats.pairs,
                 Err(e) => {
                     self.message = e.to_string();
@@ -195,9 +175,9 @@ impl ViewerApp {
     }
 
     fn record(&mut self) {
-        let s = self.world.stats();
+        let s = self.session.world.stats();
         self.history.push_back([
-            self.world.time(),
+            self.session.world.time(),
             s.kinetic_energy,
             s.momentum[0],
             s.momentum[1],
@@ -209,9 +189,7 @@ impl ViewerApp {
 
     fn save_checkpoint(&mut self) {
         let path = self.path_or("checkpoint.bin");
-        self.message = match bounce_scenario::checkpoint::encode(&self.world)
-            .and_then(|bytes| std::fs::write(&path, bytes).map_err(|e| e.to_string()))
-        {
+        self.message = match save_checkpoint(&self.session.world, &path) {
             Ok(()) => format!("saved {}", path.display()),
             Err(e) => format!("cannot save {}: {e}", path.display()),
         };
@@ -219,19 +197,14 @@ impl ViewerApp {
 
     fn load_checkpoint(&mut self) {
         let path = self.path_or("checkpoint.bin");
-        let loaded = std::fs::read(&path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))
-            .and_then(|bytes| {
-                bounce_scenario::checkpoint::decode(&bytes, &path.display().to_string())
-            });
-        match loaded {
+        match bounce_scenario::checkpoint::load(&path) {
             Ok(world) => {
-                let threads = self.world.threads();
-                if world.len() != self.colours.len() {
-                    self.colours = vec![None; world.len()];
+                let threads = self.session.world.threads();
+                if world.len() != self.session.colours.len() {
+                    self.session.colours = vec![None; world.len()];
                 }
-                self.world = world;
-                let _ = self.world.set_threads(threads);
+                self.session.world = world;
+                let _ = self.session.world.set_threads(threads);
                 self.after_reload();
                 self.message = format!("loaded {}", path.display());
             }
@@ -257,7 +230,7 @@ impl ViewerApp {
 
     fn controls(&mut self, ui: &mut egui::Ui) {
         ui.heading("bounce");
-        ui.label(&self.source.name);
+        ui.label(&self.session.title);
         ui.horizontal(|ui| {
             let play = ui.button(if self.running { "pause" } else { "play" });
             if play.clicked() {
@@ -285,7 +258,7 @@ impl ViewerApp {
         ui.add(egui::Slider::new(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
         ui.separator();
         ui.label("physics (the seed's parameters)");
-        let mut config = self.world.config().clone();
+        let mut config = self.session.world.config().clone();
         let before = config.clone();
         ui.add(
             egui::Slider::new(&mut config.collision_radius_scale, 0.5..=2.0)
@@ -298,7 +271,7 @@ impl ViewerApp {
         ui.add(egui::Slider::new(&mut config.gravity[0], -20.0..=20.0).text("gravity x"));
         ui.add(egui::Slider::new(&mut config.gravity[1], -20.0..=20.0).text("gravity y"));
         ui.add(
-            egui::Slider::new(&mut self.dt, 0.0005..=0.05)
+            egui::Slider::new(&mut self.session.dt, 0.0005..=0.05)
                 .logarithmic(true)
                 .text("dt"),
         );
@@ -330,7 +303,7 @@ impl ViewerApp {
             VelocityUpdate::AllDetected
         };
         if config != before
-            && let Err(e) = self.world.set_config(config)
+            && let Err(e) = self.session.world.set_config(config)
         {
             self.message = e.to_string();
         }
@@ -343,7 +316,11 @@ impl ViewerApp {
             ui.radio_value(&mut self.colour_by, ColorBy::Color, "scenario");
         });
         if old != self.colour_by {
-            self.palette = Palette::for_world(&self.world, self.colour_by, self.colours.clone());
+            self.palette = Palette::for_world(
+                &self.session.world,
+                self.colour_by,
+                self.session.colours.clone(),
+            );
         }
         ui.add(
             egui::Slider::new(&mut self.spawn_radius, 0.05..=5.0)
@@ -384,19 +361,19 @@ impl ViewerApp {
             ui.label(format!("{:.2} ms", self.last_step_ms));
             ui.end_row();
             ui.label("particles");
-            ui.label(self.world.len().to_string());
+            ui.label(self.session.world.len().to_string());
             ui.end_row();
             ui.label("colliding pairs / step");
             ui.label(self.last_pairs.to_string());
             ui.end_row();
             ui.label("step");
-            ui.label(self.world.step_count().to_string());
+            ui.label(self.session.world.step_count().to_string());
             ui.end_row();
             ui.label("time");
-            ui.label(format!("{:.3}", self.world.time()));
+            ui.label(format!("{:.3}", self.session.world.time()));
             ui.end_row();
             ui.label("state hash");
-            ui.monospace(format!("{:016x}", self.world.state_hash()));
+            ui.monospace(format!("{:016x}", self.session.world.state_hash()));
             ui.end_row();
         });
         ui.separator();
@@ -431,8 +408,10 @@ impl ViewerApp {
     }
 
     fn speed_histogram(&self) -> (Vec<Bar>, PlotPoints<'static>) {
-        let total_mass: f64 = bounce_scenario::analysis::masses(&self.world).iter().sum();
-        let h = bounce_scenario::analysis::speed_histogram(&self.world, 30, total_mass);
+        let total_mass: f64 = bounce_scenario::analysis::masses(&self.session.world)
+            .iter()
+            .sum();
+        let h = bounce_scenario::analysis::speed_histogram(&self.session.world, 30, total_mass);
         let bars = h
             .density
             .iter()
@@ -456,10 +435,10 @@ impl ViewerApp {
         }
         let view = *self
             .view
-            .get_or_insert_with(|| initial_view(&self.world, w, h));
+            .get_or_insert_with(|| View::fit(self.session.view.0, self.session.view.1, w, h));
         self.handle_mouse(ui, &response, rect, ppp, w, h);
         let view = self.view.unwrap_or(view);
-        self.raster.draw(&self.world, &view, &self.palette);
+        self.raster.draw(&self.session.world, &view, &self.palette);
         let image = egui::ColorImage::from_rgba_unmultiplied([w, h], &self.raster.pixels);
         match &mut self.texture {
             Some(t) => t.set(image, TextureOptions::NEAREST),
@@ -536,8 +515,8 @@ impl ViewerApp {
             if far_enough {
                 let d = response.drag_delta() * ppp;
                 let v = [
-                    d.x as f64 / view.scale / self.dt.max(1e-9) * 0.1,
-                    -d.y as f64 / view.scale / self.dt.max(1e-9) * 0.1,
+                    d.x as f64 / view.scale / self.session.dt.max(1e-9) * 0.1,
+                    -d.y as f64 / view.scale / self.session.dt.max(1e-9) * 0.1,
                 ];
                 self.spawn(world_pos, v);
                 self.last_spawn = Some(world_pos);
@@ -546,7 +525,7 @@ impl ViewerApp {
         // Right drag: fling the disc under the press, or push everything around the cursor.
         if response.drag_started_by(PointerButton::Secondary) {
             self.drag_start = Some(world_pos);
-            self.fling = self.world.particle_at(world_pos);
+            self.fling = self.session.world.particle_at(world_pos);
         }
         if response.dragged_by(PointerButton::Secondary) && self.fling.is_none() {
             let d = response.drag_delta() * ppp;
@@ -555,7 +534,7 @@ impl ViewerApp {
                 -d.y as f64 / view.scale * 2.0,
             ];
             let reach = 40.0 / view.scale;
-            self.world.push_region(world_pos, reach, dv);
+            self.session.world.push_region(world_pos, reach, dv);
         }
         if response.drag_stopped_by(PointerButton::Secondary) {
             if let (Some(id), Some(start)) = (self.fling, self.drag_start) {
@@ -563,7 +542,7 @@ impl ViewerApp {
                     (world_pos[0] - start[0]) * 3.0,
                     (world_pos[1] - start[1]) * 3.0,
                 ];
-                if let Err(e) = self.world.set_velocity(id, v) {
+                if let Err(e) = self.session.world.set_velocity(id, v) {
                     self.message = e.to_string();
                 }
             }
@@ -574,11 +553,15 @@ impl ViewerApp {
 
     fn spawn(&mut self, at: [f64; 2], velocity: [f64; 2]) {
         let r = self.spawn_radius;
-        match self.world.add_particle(Particle::new(at, velocity, r)) {
-            Ok(_) => self.colours.push(Some([240, 240, 240])),
+        match self
+            .session
+            .world
+            .add_particle(Particle::new(at, velocity, r))
+        {
+            Ok(_) => self.session.colours.push(Some([240, 240, 240])),
             Err(e) => self.message = format!("cannot place a disc there: {e}"),
         }
-        self.palette.colours = self.colours.clone();
+        self.palette.colours = self.session.colours.clone();
     }
 
     /// A scenario file dropped on the window. (In the browser the page reads dropped files
@@ -603,8 +586,13 @@ impl ViewerApp {
 
     /// Opens scenario text (e.g. a file dropped on the page).
     pub fn open_text(&mut self, name: &str, text: &str) -> Result<(), String> {
-        load(name, text)?;
-        self.open(name.to_string(), text.to_string());
+        let session = Session::from_text(name, text).map_err(|e| e.to_string())?;
+        let threads = self.session.world.threads();
+        self.session = session;
+        let _ = self.session.world.set_threads(threads);
+        self.colour_by = self.session.colour_by;
+        self.after_reload();
+        self.message = format!("opened {name}");
         Ok(())
     }
 
@@ -612,9 +600,9 @@ impl ViewerApp {
     pub fn status(&self) -> String {
         format!(
             "step {} hash {:016x} particles {} running {} fps {:.1}",
-            self.world.step_count(),
-            self.world.state_hash(),
-            self.world.len(),
+            self.session.world.step_count(),
+            self.session.world.state_hash(),
+            self.session.world.len(),
             self.running,
             self.fps()
         )
@@ -634,8 +622,7 @@ impl ViewerApp {
     pub fn open_builtin(&mut self, name: &str) -> Result<(), String> {
         let text =
             bounce_scenario::template(name).ok_or(format!("no built-in scenario {name:?}"))?;
-        self.open(name.to_string(), text.to_string());
-        Ok(())
+        self.open_text(name, text)
     }
 
     /// Pauses and steps until step `target` (for tests comparing with a native run).
@@ -643,7 +630,9 @@ impl ViewerApp {
         self.running = false;
         let per_frame = self.steps_per_frame;
         self.steps_per_frame = 1;
-        while self.world.step_count() < target && self.world.step(self.dt).is_ok() {}
+        let _ = self.session.run_until(target, |_, _| {
+            Ok::<_, bounce::StepError>(ControlFlow::Continue(()))
+        });
         self.steps_per_frame = per_frame;
         self.record();
     }
@@ -740,14 +729,14 @@ impl ViewerApp {
                 &state.spec.screenshot,
                 state.canvas,
                 state.pixels_per_point,
-                &self.world,
+                &self.session.world,
                 self.view.as_ref(),
                 (self.raster.width, self.raster.height),
             );
             println!(
                 "rendered {} frames of {} particles in {seconds:.2} s: {:.1} frames/s (last step {:.2} ms)",
                 state.frames,
-                self.world.len(),
+                self.session.world.len(),
                 state.frames as f64 / seconds.max(1e-9),
                 self.last_step_ms
             );
@@ -797,42 +786,16 @@ impl eframe::App for ViewerApp {
     }
 }
 
-/// A world, colours, dt and colouring from scenario text.
-fn load(name: &str, text: &str) -> Result<Loaded, String> {
-    let scenario = bounce_scenario::parse(text, name).map_err(|e| e.to_string())?;
-    let built = scenario.build(text, name).map_err(|e| e.to_string())?;
-    let colour_by = scenario
-        .output
-        .color_by
-        .unwrap_or(if scenario.has_colours() {
-            ColorBy::Color
-        } else {
-            ColorBy::Speed
-        });
-    Ok(Loaded {
-        world: built.world,
-        colours: built.colours,
-        dt: scenario.time.dt,
-        colour_by,
-    })
+/// Writes a checkpoint whole or not at all, as the CLI does.
+#[cfg(not(target_arch = "wasm32"))]
+fn save_checkpoint(world: &World, path: &std::path::Path) -> Result<(), String> {
+    bounce_scenario::checkpoint::save(world, path)
 }
 
-/// The box, or the particles' extent for an open world.
-fn initial_view(world: &World, w: usize, h: usize) -> View {
-    let (min, max) = world.config().boundary.bounds().unwrap_or_else(|| {
-        let p = world.particles();
-        let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if p.is_empty() {
-            ([-10.0, -10.0], [10.0, 10.0])
-        } else {
-            (
-                [lo(p.x()) - 5.0, lo(p.y()) - 5.0],
-                [hi(p.x()) + 5.0, hi(p.y()) + 5.0],
-            )
-        }
-    });
-    View::fit(min, max, w, h)
+/// The browser has no files to write.
+#[cfg(target_arch = "wasm32")]
+fn save_checkpoint(_world: &World, _path: &std::path::Path) -> Result<(), String> {
+    Err("no file system in the browser".into())
 }
 
 #[cfg(test)]
@@ -909,12 +872,12 @@ mod tests {
     #[test]
     fn spawning_adds_coloured_discs_and_refuses_bad_places() {
         let mut a = app("newtons-cradle");
-        let n = a.world.len();
+        let n = a.session.world.len();
         a.spawn([20.0, 3.0], [1.0, 0.0]);
-        assert_eq!(a.world.len(), n + 1);
-        assert_eq!(a.colours.len(), n + 1);
+        assert_eq!(a.session.world.len(), n + 1);
+        assert_eq!(a.session.colours.len(), n + 1);
         a.spawn([500.0, 3.0], [0.0, 0.0]);
-        assert_eq!(a.world.len(), n + 1, "outside the walls");
+        assert_eq!(a.session.world.len(), n + 1, "outside the walls");
         assert!(a.message.contains("cannot place"), "{}", a.message);
     }
 }

@@ -5,7 +5,8 @@
 //! computes the same bits as a native run. Built by `scripts/build-web` into `web/dist`.
 #![cfg(target_arch = "wasm32")]
 
-use bounce::World;
+use bounce_scenario::Session;
+use bounce_scenario::palette::Palette;
 use bounce_viewer::ViewerApp;
 use wasm_bindgen::prelude::*;
 
@@ -98,78 +99,73 @@ impl Default for WebHandle {
     }
 }
 
-/// A bare simulation for the 2D-canvas fallback: the page steps it and draws the discs.
+/// A bare simulation for the 2D-canvas fallback: the page steps it and draws the discs, with
+/// the same session (scenario, colours, view) as the viewer.
 #[wasm_bindgen]
 pub struct Simulation {
-    world: World,
-    dt: f64,
+    session: Session,
+    palette: Palette,
 }
 
 #[wasm_bindgen]
 impl Simulation {
-    /// A built-in scenario by name, or scenario text.
+    /// A built-in scenario by name (`demo` for the viewer's built-in demo), or scenario text.
     #[wasm_bindgen(constructor)]
     pub fn new(name: String, text: Option<String>) -> Result<Simulation, JsValue> {
-        let text = match text {
-            Some(t) => t,
-            None => bounce_scenario::template(&name)
-                .ok_or_else(|| JsValue::from_str(&format!("no built-in scenario {name:?}")))?
-                .to_string(),
-        };
-        let scenario =
-            bounce_scenario::parse(&text, &name).map_err(|e| JsValue::from_str(&e.to_string()))?;
-        let built = scenario
-            .build(&text, &name)
-            .map_err(|e| JsValue::from_str(&e.to_string()))?;
-        Ok(Simulation {
-            world: built.world,
-            dt: scenario.time.dt,
-        })
+        let session = match (text, name.as_str()) {
+            (Some(text), _) => Session::from_text(&name, &text).map_err(|e| e.to_string()),
+            (None, "demo") => {
+                Session::from_text("built-in demo", bounce_viewer::DEMO).map_err(|e| e.to_string())
+            }
+            (None, _) => Session::builtin(&name),
+        }
+        .map_err(|e| JsValue::from_str(&e))?;
+        let palette =
+            Palette::for_world(&session.world, session.colour_by, session.colours.clone());
+        Ok(Simulation { session, palette })
     }
 
     /// Advances `n` steps.
     pub fn step(&mut self, n: u32) -> Result<(), JsValue> {
         for _ in 0..n {
-            self.world
-                .step(self.dt)
+            self.session
+                .step()
                 .map_err(|e| JsValue::from_str(&e.to_string()))?;
         }
         Ok(())
     }
 
-    /// `[x, y, r, x, y, r, ...]` of every disc.
+    /// `[x, y, r, colour, x, y, r, colour, ...]` of every disc; the colour is `0xRRGGBB` as
+    /// the viewer paints it (the scenario's colours, or by speed or radius).
     pub fn discs(&self) -> Vec<f64> {
-        let p = self.world.particles();
+        let p = self.session.world.particles();
         (0..p.len())
-            .flat_map(|i| [p.x()[i], p.y()[i], p.radius()[i]])
+            .flat_map(|i| {
+                let speed = p.vx()[i].hypot(p.vy()[i]);
+                let [r, g, b] = self
+                    .palette
+                    .colour(p.ids()[i].0 as usize, speed, p.radius()[i]);
+                let rgb = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
+                [p.x()[i], p.y()[i], p.radius()[i], rgb as f64]
+            })
             .collect()
     }
 
-    /// `[min_x, min_y, max_x, max_y]` of the box, or of the discs in an open world.
+    /// `[min_x, min_y, max_x, max_y]`: the region the session shows.
     pub fn bounds(&self) -> Vec<f64> {
-        match self.world.config().boundary.bounds() {
-            Some((min, max)) => vec![min[0], min[1], max[0], max[1]],
-            None => {
-                let d = self.discs();
-                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-                for c in d.chunks(3) {
-                    for a in 0..2 {
-                        lo[a] = lo[a].min(c[a] - c[2]);
-                        hi[a] = hi[a].max(c[a] + c[2]);
-                    }
-                }
-                vec![lo[0], lo[1], hi[0], hi[1]]
-            }
-        }
+        let (min, max) = self.session.view;
+        vec![min[0], min[1], max[0], max[1]]
     }
 
-    /// `step N hash H particles P`.
+    /// `step N hash H particles P scenario NAME`.
     pub fn status(&self) -> String {
+        let world = &self.session.world;
         format!(
-            "step {} hash {:016x} particles {}",
-            self.world.step_count(),
-            self.world.state_hash(),
-            self.world.len()
+            "step {} hash {:016x} particles {} scenario {}",
+            world.step_count(),
+            world.state_hash(),
+            world.len(),
+            self.session.origin
         )
     }
 }

@@ -1,6 +1,10 @@
 //! The browser version in real headless Chromium: the page built by `scripts/build-web`,
 //! served on 127.0.0.1, driven by `web/e2e.mjs` (playwright-core). Checks the canvas shows
 //! discs, play/pause and step behave, and the state hash after 100 steps equals a native run.
+//!
+//! Needs Chromium, node with playwright-core and the built page: `scripts/test` installs them
+//! and runs this with `--features system-tests`.
+#![cfg(feature = "system-tests")]
 
 use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -64,12 +68,11 @@ impl Drop for Server {
 
 /// The hash a native run of the built-in `gas` scenario has after 100 steps.
 fn native_gas_status_at_100() -> String {
-    let text = bounce_scenario::template("gas").unwrap();
-    let scenario = bounce_scenario::parse(text, "gas").unwrap();
-    let mut world = scenario.build(text, "gas").unwrap().world;
+    let mut session = bounce_scenario::Session::builtin("gas").unwrap();
     for _ in 0..100 {
-        world.step(scenario.time.dt).unwrap();
+        session.step().unwrap();
     }
+    let world = &session.world;
     format!(
         "step 100 hash {:016x} particles {}",
         world.state_hash(),
@@ -131,6 +134,16 @@ fn check_run(result: &serde_json::Value) {
 
 /// Counts pixels in a rectangle that differ from the canvas background, and their colours.
 fn disc_pixels(png: &Path, x: std::ops::Range<u32>, y: std::ops::Range<u32>) -> (usize, usize) {
+    let (differing, colours) = disc_colours(png, x, y);
+    (differing, colours.len())
+}
+
+/// The pixels in a rectangle that differ from the canvas background, and their colours.
+fn disc_colours(
+    png: &Path,
+    x: std::ops::Range<u32>,
+    y: std::ops::Range<u32>,
+) -> (usize, std::collections::HashSet<[u8; 3]>) {
     let image = tiny_skia::Pixmap::load_png(png).unwrap();
     let mut colours = std::collections::HashSet::new();
     let mut differing = 0;
@@ -144,7 +157,7 @@ fn disc_pixels(png: &Path, x: std::ops::Range<u32>, y: std::ops::Range<u32>) -> 
             }
         }
     }
-    (differing, colours.len())
+    (differing, colours)
 }
 
 #[test]
@@ -171,4 +184,23 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
     check_run(&result);
     let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
     assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
+}
+
+#[test]
+fn the_fallback_opens_the_scenario_of_the_address_in_its_colours() {
+    let server = Server::start();
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("mixing.png");
+    let result = drive(&server, "fallback-scenario", &shot);
+    assert!(result.get("error").is_none(), "{result}");
+    let status = result["status"].as_str().unwrap();
+    assert!(status.ends_with("scenario mixing"), "{status}");
+    // mixing.toml paints one species red and the other blue.
+    let (differing, colours) = disc_colours(&shot, 20..880, 60..600);
+    let reddish = colours.iter().filter(|c| c[0] > 150 && c[2] < 100).count();
+    let bluish = colours.iter().filter(|c| c[2] > 150 && c[0] < 100).count();
+    assert!(
+        differing > 5_000 && reddish > 0 && bluish > 0,
+        "{differing} disc pixels, {reddish} red and {bluish} blue shades"
+    );
 }

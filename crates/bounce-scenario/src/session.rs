@@ -1,0 +1,218 @@
+//! A session: a scenario turned into everything a front end needs to run it.
+//!
+//! The CLI, the desktop viewer, the web page (both renderers) and the tests all start here:
+//! scenario text → a [`Session`] holding the world, the discs' colours, the time step and run
+//! length, the colouring, the region to show (computed once, [`view_bounds`]) and the output
+//! plan; [`Session::run_until`] is the run loop they share, and checkpoints are saved with the
+//! same atomic write everywhere.
+
+use std::ops::ControlFlow;
+use std::path::Path;
+
+use bounce::{StepError, StepStats, World};
+
+use crate::{ColorBy, OutputSpec, Problem, Rgb, Scenario, ScenarioError};
+
+/// A scenario ready to run.
+#[derive(Debug)]
+pub struct Session {
+    /// What to call the run: the scenario's `name`, else where it came from.
+    pub title: String,
+    /// Where the scenario came from (a file, or a built-in name), as messages name it.
+    pub origin: String,
+    /// The scenario text: what [`Session::reset`] rebuilds from.
+    pub text: String,
+    /// The parsed scenario.
+    pub scenario: Scenario,
+    /// The world, particles placed (ids in file order).
+    pub world: World,
+    /// Colour of each particle by id; `None` where the scenario sets none.
+    pub colours: Vec<Option<Rgb>>,
+    /// The time step.
+    pub dt: f64,
+    /// The step the scenario runs to (`time.steps`).
+    pub steps: u64,
+    /// How pictures colour the discs: the scenario's `output.color_by`, else its colours
+    /// when it sets any, else speed.
+    pub colour_by: ColorBy,
+    /// The region pictures show: `output.view`, else the box, else the discs' extent at the
+    /// start with a margin of two largest radii.
+    pub view: ([f64; 2], [f64; 2]),
+    /// What a run writes.
+    pub output: OutputSpec,
+}
+
+impl Session {
+    /// A session from scenario text; `origin` names it in messages.
+    pub fn from_text(origin: &str, text: &str) -> Result<Session, ScenarioError> {
+        let scenario = crate::parse(text, origin)?;
+        let built = scenario.build(text, origin)?;
+        let colour_by = scenario
+            .output
+            .color_by
+            .unwrap_or(if scenario.has_colours() {
+                ColorBy::Color
+            } else {
+                ColorBy::Speed
+            });
+        let view = view_bounds(&built.world, scenario.output.view.map(|v| (v.min, v.max)));
+        Ok(Session {
+            title: scenario.name.clone().unwrap_or_else(|| origin.to_string()),
+            origin: origin.to_string(),
+            text: text.to_string(),
+            dt: scenario.time.dt,
+            steps: scenario.time.steps,
+            colour_by,
+            view,
+            output: scenario.output.clone(),
+            world: built.world,
+            colours: built.colours,
+            scenario,
+        })
+    }
+
+    /// A session from a scenario file.
+    pub fn load(path: &Path) -> Result<Session, ScenarioError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            file: origin.clone(),
+            problems: vec![Problem {
+                line: None,
+                message: format!("cannot read the file: {e}"),
+            }],
+        })?;
+        Session::from_text(&origin, &text)
+    }
+
+    /// A session of a shipped scenario (`gas`, `pile`, ...: [`crate::TEMPLATES`]).
+    pub fn builtin(name: &str) -> Result<Session, String> {
+        let text = crate::template(name).ok_or_else(|| {
+            let names: Vec<&str> = crate::TEMPLATES.iter().map(|(n, _)| *n).collect();
+            format!(
+                "no built-in scenario {name:?}; choose one of {}",
+                names.join(", ")
+            )
+        })?;
+        Session::from_text(name, text).map_err(|e| e.to_string())
+    }
+
+    /// Rebuilds the world from the scenario text: the state at step 0. The thread count is
+    /// kept.
+    pub fn reset(&mut self) -> Result<(), ScenarioError> {
+        let threads = self.world.threads();
+        let fresh = Session::from_text(&self.origin, &self.text)?;
+        *self = fresh;
+        // A thread pool that started once starts again.
+        let _ = self.world.set_threads(threads);
+        Ok(())
+    }
+
+    /// One step of `dt`.
+    pub fn step(&mut self) -> Result<&StepStats, StepError> {
+        self.world.step(self.dt)
+    }
+
+    /// Steps until step `target`, calling `after_step` after each; it returns
+    /// `ControlFlow::Break(())` to stop early (Ctrl-C, a paused viewer). Returns whether the
+    /// target was reached.
+    pub fn run_until<E: From<StepError>>(
+        &mut self,
+        target: u64,
+        mut after_step: impl FnMut(&World, &StepStats) -> Result<ControlFlow<()>, E>,
+    ) -> Result<bool, E> {
+        while self.world.step_count() < target {
+            let stats = *self.world.step(self.dt)?;
+            if after_step(&self.world, &stats)?.is_break() && self.world.step_count() < target {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// Replaces the world with one loaded from a checkpoint, which must hold as many discs as
+    /// the scenario makes.
+    pub fn resume(&mut self, world: World, checkpoint: &str) -> Result<(), String> {
+        if world.len() != self.world.len() {
+            return Err(format!(
+                "{checkpoint}: the checkpoint has {} particles but {} makes {}",
+                world.len(),
+                self.origin,
+                self.world.len()
+            ));
+        }
+        let threads = self.world.threads();
+        self.world = world;
+        let _ = self.world.set_threads(threads);
+        Ok(())
+    }
+}
+
+/// The region pictures show: `view` if given, else the box, else the discs' extent with a
+/// margin of two largest radii (`[-10, 10]²` for an empty open world).
+pub fn view_bounds(world: &World, view: Option<([f64; 2], [f64; 2])>) -> ([f64; 2], [f64; 2]) {
+    if let Some(view) = view.or(world.config().boundary.bounds()) {
+        return view;
+    }
+    let p = world.particles();
+    if p.is_empty() {
+        return ([-10.0, -10.0], [10.0, 10.0]);
+    }
+    let margin = 2.0 * p.radius().iter().copied().fold(0.0, f64::max);
+    let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - margin;
+    let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + margin;
+    ([lo(p.x()), lo(p.y())], [hi(p.x()), hi(p.y())])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_session_holds_the_scenario_ready_to_run() {
+        let mut s = Session::builtin("mixing").unwrap();
+        assert_eq!(s.colour_by, ColorBy::Color);
+        assert!(s.colours.iter().all(|c| c.is_some()));
+        assert_eq!(s.view, s.world.config().boundary.bounds().unwrap());
+        let start = s.world.state_hash();
+        // Stops when asked, and reaches the target otherwise.
+        let mut seen = 0;
+        let reached = s
+            .run_until(10, |_, _| {
+                seen += 1;
+                Ok::<_, StepError>(if seen == 3 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                })
+            })
+            .unwrap();
+        assert!(!reached);
+        assert_eq!(s.world.step_count(), 3);
+        assert!(
+            s.run_until(5, |_, _| Ok::<_, StepError>(ControlFlow::Continue(())))
+                .unwrap()
+        );
+        assert_eq!(s.world.step_count(), 5);
+        s.reset().unwrap();
+        assert_eq!(s.world.state_hash(), start);
+        assert!(Session::builtin("nope").unwrap_err().contains("gas"));
+    }
+
+    #[test]
+    fn an_open_world_is_viewed_around_its_discs() {
+        let text = "[world]\nboundary = \"open\"\n[time]\ndt = 0.1\nsteps = 1\n\
+                    [[disc]]\nposition = [1.0, 2.0]\nradius = 0.5\n\
+                    [[disc]]\nposition = [5.0, -2.0]\nradius = 1.0\n";
+        let s = Session::from_text("open.toml", text).unwrap();
+        assert_eq!(s.view, ([-1.0, -4.0], [7.0, 4.0]));
+        assert_eq!(s.title, "open.toml");
+    }
+
+    #[test]
+    fn resuming_needs_the_same_number_of_discs() {
+        let mut s = Session::builtin("gas").unwrap();
+        let other = Session::builtin("pile").unwrap().world;
+        let e = s.resume(other, "c.bin").unwrap_err();
+        assert!(e.contains("c.bin") && e.contains("particles"), "{e}");
+    }
+}
