@@ -61,7 +61,7 @@ pub fn run(args: &RunArgs, interrupted: Arc<AtomicBool>) -> Result<Outcome> {
         );
     }
     let energy_start = world.stats().kinetic_energy;
-    outputs.record(&world, true)?;
+    outputs.record(world, true)?;
 
     let progress = progress_bar(total - start_step, args.quiet);
     let clock = Instant::now();

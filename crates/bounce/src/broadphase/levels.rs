@@ -273,8 +273,6 @@ fn spread(coords: &[f64], level: usize, discs: &Discs) -> (f64, f64, f64) {
     (lo, hi, median)
 }
 
-/// Lists, per block, every pair within its collision distance plus `margin`, for discs
-
 #[cfg(test)]
 mod tests {
     use super::*;
