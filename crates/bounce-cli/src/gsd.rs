@@ -37,6 +37,91 @@ enum Type {
     F64 = 10,
 }
 
+impl Type {
+    fn from_u8(v: u8) -> Option<Type> {
+        Some(match v {
+            1 => Type::U8,
+            3 => Type::U32,
+            4 => Type::U64,
+            5 => Type::I8,
+            9 => Type::F32,
+            10 => Type::F64,
+            _ => return None,
+        })
+    }
+
+    /// Bytes per element.
+    fn size(self) -> u64 {
+        match self {
+            Type::U8 | Type::I8 => 1,
+            Type::U32 | Type::F32 => 4,
+            Type::U64 | Type::F64 => 8,
+        }
+    }
+}
+
+/// An index entry as read from a file.
+struct RawEntry {
+    frame: u64,
+    n: u64,
+    location: u64,
+    m: u32,
+    id: u16,
+    kind: u8,
+}
+
+/// `len` bytes at `at` (bounded: a GSD chunk of this writer is one array of one frame).
+fn read_at(file: &mut std::fs::File, at: u64, len: u64) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let size = file.metadata()?.len();
+    if at.checked_add(len).is_none_or(|end| end > size) {
+        anyhow::bail!("a chunk runs past the end of the file");
+    }
+    file.seek(SeekFrom::Start(at))?;
+    let mut bytes = vec![0u8; len as usize];
+    file.read_exact(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// The name list and the index entries of a GSD file written by [`GsdWriter`].
+fn read_layout(file: &mut std::fs::File) -> Result<(Vec<String>, Vec<RawEntry>)> {
+    let header = read_at(file, 0, HEADER_SIZE)?;
+    let word = |at: usize| u64::from_le_bytes(header[at..at + 8].try_into().expect("8"));
+    if word(0) != MAGIC {
+        anyhow::bail!("no GSD header");
+    }
+    let (index_location, allocated) = (word(8), word(16));
+    let (names_location, name_blocks) = (word(24), word(32));
+    let names_bytes = read_at(
+        file,
+        names_location,
+        name_blocks.saturating_mul(NAME_BLOCK as u64),
+    )?;
+    let names: Vec<String> = names_bytes
+        .split(|&b| b == 0)
+        .take_while(|n| !n.is_empty())
+        .map(|n| String::from_utf8_lossy(n).into_owned())
+        .collect();
+    let index = read_at(file, index_location, allocated.saturating_mul(32))?;
+    let mut entries = Vec::new();
+    for e in index.chunks_exact(32) {
+        let u64_at = |at: usize| u64::from_le_bytes(e[at..at + 8].try_into().expect("8"));
+        let location = u64_at(16);
+        if location == 0 {
+            break;
+        }
+        entries.push(RawEntry {
+            frame: u64_at(0),
+            n: u64_at(8),
+            location,
+            m: u32::from_le_bytes(e[24..28].try_into().expect("4")),
+            id: u16::from_le_bytes(e[28..30].try_into().expect("2")),
+            kind: e[30],
+        });
+    }
+    Ok((names, entries))
+}
+
 struct IndexEntry {
     frame: u64,
     n: u64,
@@ -68,6 +153,48 @@ impl GsdWriter {
             index: Vec::new(),
             frame: 0,
         })
+    }
+
+    /// Continues the trajectory at `path`: keeps the frames whose step passes `keep` (a
+    /// leading run of them), chunk for chunk, so the file continues as if never interrupted.
+    /// Without an earlier file, starts a new one.
+    pub fn resume(path: &Path, keep: impl Fn(u64) -> bool) -> Result<Self> {
+        let mut writer = GsdWriter::create(path)?;
+        let Ok(mut old) = std::fs::File::open(path) else {
+            return Ok(writer);
+        };
+        let name = path.display().to_string();
+        let (names, entries) =
+            read_layout(&mut old).with_context(|| format!("{name}: not a GSD file of bounce"))?;
+        // The step of each frame, from its `configuration/step` chunk.
+        let step_id = names.iter().position(|n| n == "configuration/step");
+        let mut frames_kept = 0u64;
+        for e in &entries {
+            if Some(e.id as usize) == step_id {
+                let step =
+                    u64::from_le_bytes(read_at(&mut old, e.location, 8)?.try_into().expect("8"));
+                if e.frame == frames_kept && keep(step) {
+                    frames_kept += 1;
+                }
+            }
+        }
+        let mut by_location: Vec<&RawEntry> =
+            entries.iter().filter(|e| e.frame < frames_kept).collect();
+        by_location.sort_by_key(|e| e.location);
+        for e in by_location {
+            let kind = Type::from_u8(e.kind)
+                .with_context(|| format!("{name}: unknown GSD type {}", e.kind))?;
+            let len = e.n.saturating_mul(e.m as u64).saturating_mul(kind.size());
+            let bytes = read_at(&mut old, e.location, len)?;
+            let chunk_name = names
+                .get(e.id as usize)
+                .with_context(|| format!("{name}: a chunk without a name"))?
+                .clone();
+            writer.frame = e.frame;
+            writer.chunk(&chunk_name, kind, e.n, e.m, &bytes)?;
+        }
+        writer.frame = frames_kept;
+        Ok(writer)
     }
 
     fn id(&mut self, name: &str) -> u16 {

@@ -7,12 +7,12 @@ mod render;
 mod run;
 mod stats_csv;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicUsize;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
 
 /// bounce: a fast, faithful, deterministic 2D disc collision simulator.
@@ -29,18 +29,26 @@ enum Command {
     Run {
         /// The scenario file (TOML).
         scenario: PathBuf,
-        /// Output directory (created if missing).
+        /// Output directory (created if missing; refused if it holds another run's files,
+        /// unless --force or --resume).
         #[arg(long, default_value = "out")]
         out: PathBuf,
         /// Run until this step (overrides the scenario's time.steps).
         #[arg(long)]
         steps: Option<u64>,
-        /// Worker threads (results are identical for every count); default: all cores.
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Continue from a checkpoint written by an earlier run of the same scenario.
+        /// Worker threads, 1 to 256 (results are identical for every count); default: all
+        /// cores.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS))]
+        threads: Option<u16>,
+        /// Continue from a checkpoint of the same scenario; into the run's own folder the
+        /// outputs are continued (later rows and frames dropped first).
         #[arg(long)]
         resume: Option<PathBuf>,
+        /// Replace the files of a previous run in the output directory.
+        #[arg(long, conflicts_with = "resume")]
+        force: bool,
+        #[command(flatten)]
+        steer: Steer,
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
@@ -72,11 +80,82 @@ enum Command {
     Check {
         /// The scenario file (TOML).
         scenario: PathBuf,
+        #[command(flatten)]
+        steer: Steer,
     },
 }
 
+/// Changes to the scenario from the command line, and the resources it may use.
+#[derive(clap::Args)]
+struct Steer {
+    /// Override a scenario field, validated like the file's own value:
+    /// `--set world.coefficient_of_restitution=0.9 --set time.dt=0.001 --set gas.2.count=500`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Reseed every [[gas]] generator: table k gets seed N + k.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Refuse scenarios estimated to need more memory than this, in GiB (default: half the
+    /// machine's memory).
+    #[arg(long, value_name = "GIB")]
+    memory_limit: Option<f64>,
+}
+
+/// The most worker threads `--threads` accepts.
+const MAX_THREADS: i64 = 256;
+
+impl Steer {
+    /// The scenario's text with the overrides applied, its name, and the limits.
+    fn apply(&self, scenario: &Path) -> Result<(String, String, bounce_scenario::Limits)> {
+        let origin = scenario.display().to_string();
+        let text = std::fs::read_to_string(scenario)
+            .with_context(|| format!("{origin}: cannot read the file"))?;
+        let text = bounce_scenario::overrides::apply(&text, &self.sets, self.seed)
+            .map_err(|e| anyhow!("{origin}: {e}"))?;
+        let origin = if self.sets.is_empty() && self.seed.is_none() {
+            origin
+        } else {
+            format!("{origin} (with --set/--seed)")
+        };
+        let limits = match self.memory_limit {
+            Some(gib) if gib.is_finite() && gib > 0.0 => bounce_scenario::Limits::memory_gib(gib),
+            Some(gib) => bail!("--memory-limit {gib}: must be a number of GiB > 0"),
+            None => bounce_scenario::Limits::default(),
+        };
+        Ok((text, origin, limits))
+    }
+}
+
+/// Stores the number of the first SIGINT, SIGTERM or SIGHUP received: the run finishes its
+/// step, writes everything and exits with 128 + that number. A second signal of the same kind
+/// while the run is finishing does not kill it half-written.
+fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
+    let stop = Arc::new(AtomicUsize::new(0));
+    #[cfg(unix)]
+    for signal in [
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGTERM,
+        signal_hook::consts::SIGHUP,
+    ] {
+        signal_hook::flag::register_usize(signal, stop.clone(), signal as usize)
+            .with_context(|| format!("cannot handle signal {signal}"))?;
+    }
+    Ok(stop)
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // Bad arguments exit with 1, like every other bad input (help and --version with 0).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
     match dispatch(cli) {
         Ok(code) => code,
         Err(e) => {
@@ -97,17 +176,16 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             steps,
             threads,
             resume,
+            force,
+            steer,
             quiet,
         } => {
-            let threads = threads
-                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-            if threads == 0 {
-                bail!("--threads must be at least 1");
-            }
-            let interrupted = Arc::new(AtomicBool::new(false));
-            let flag = interrupted.clone();
-            ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
-                .context("cannot install the Ctrl-C handler")?;
+            let threads = threads.map_or_else(
+                || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                usize::from,
+            );
+            let stop = stop_on_signals()?;
+            let (text, origin, limits) = steer.apply(&scenario)?;
             let args = run::RunArgs {
                 scenario,
                 out,
@@ -115,10 +193,14 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 threads,
                 resume,
                 quiet,
+                force,
+                text,
+                origin,
+                limits,
             };
-            Ok(match run::run(&args, interrupted)? {
+            Ok(match run::run(&args, stop)? {
                 run::Outcome::Finished => ExitCode::SUCCESS,
-                run::Outcome::Interrupted => ExitCode::from(130),
+                run::Outcome::Stopped(signal) => ExitCode::from((128 + signal.clamp(0, 127)) as u8),
             })
         }
         Command::New {
@@ -157,8 +239,9 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             view(scenario, headless_frames.zip(screenshot))?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Check { scenario } => {
-            let session = bounce_scenario::Session::load(&scenario)?;
+        Command::Check { scenario, steer } => {
+            let (text, origin, limits) = steer.apply(&scenario)?;
+            let session = bounce_scenario::Session::from_text_with(&origin, &text, &limits)?;
             println!(
                 "{}: ok: {} particles, {} steps of dt {}, {:?} boundary",
                 session.origin,

@@ -1,5 +1,10 @@
-//! `plots.png`: energy and momentum over time, and the final speed histogram against the
-//! 2D Maxwell–Boltzmann distribution at the measured temperature.
+//! `plots.png`: energy and momentum over time, and the final speed histogram, with the 2D
+//! Maxwell–Boltzmann distribution at the measured temperature where it applies (no gravity:
+//! a pile in a gravity field is not a gas in equilibrium).
+//!
+//! Axis ranges are made finite and non-empty whatever the data (a run that overflowed stops
+//! before its data is written, but huge finite values must still draw), and tick labels use
+//! a short scientific form so they never run into each other.
 
 use std::path::Path;
 
@@ -23,6 +28,8 @@ pub struct Sample {
     pub energy: f64,
     /// Momentum components.
     pub momentum: [f64; 2],
+    /// Potential energy in the gravity field.
+    pub potential: f64,
 }
 
 fn register_font() -> Result<()> {
@@ -47,15 +54,40 @@ pub fn draw(history: &[Sample], world: &World, total_mass: f64, path: &Path) -> 
         root.fill(&WHITE).map_err(plot_err)?;
         let (left, right) = root.split_horizontally(w / 2);
         let (top, bottom) = left.split_vertically(h / 2);
-        series(&top, "kinetic energy", history, |s| s.energy, &BLUE)?;
+        let gravity = world.config().gravity != [0.0, 0.0];
+        if gravity {
+            series(
+                &top,
+                "energy",
+                history,
+                &[
+                    ("kinetic", &|s: &Sample| s.energy, &BLUE),
+                    (
+                        "kinetic + potential",
+                        &|s: &Sample| s.energy + s.potential,
+                        &BLACK,
+                    ),
+                ],
+            )?;
+        } else {
+            series(
+                &top,
+                "kinetic energy",
+                history,
+                &[("kinetic", &|s: &Sample| s.energy, &BLUE)],
+            )?;
+        }
         series(
             &bottom,
             "|momentum|",
             history,
-            |s| s.momentum[0].hypot(s.momentum[1]),
-            &RED,
+            &[(
+                "|momentum|",
+                &|s: &Sample| s.momentum[0].hypot(s.momentum[1]),
+                &RED,
+            )],
         )?;
-        histogram(&right, world, total_mass)?;
+        histogram(&right, world, total_mass, !gravity)?;
         root.present().map_err(plot_err)?;
     }
     let image = tiny_skia::IntSize::from_wh(w, h)
@@ -74,44 +106,111 @@ fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("cannot draw plots.png: {e:?}")
 }
 
+/// A finite, non-empty axis range around the finite values of `values`, padded by a tenth.
+fn axis_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !(lo <= hi) {
+        return (0.0, 1.0);
+    }
+    // Halved first so that the span of values near ±f64::MAX stays finite.
+    let (half_lo, half_hi) = (lo / 2.0, hi / 2.0);
+    let half_pad = ((half_hi - half_lo) * 0.1)
+        .max(half_hi.abs().max(half_lo.abs()) * 1e-6)
+        .max(1e-300);
+    let (lo, hi) = (2.0 * (half_lo - half_pad), 2.0 * (half_hi + half_pad));
+    if lo.is_finite() && hi.is_finite() && lo < hi {
+        (lo, hi)
+    } else {
+        (-f64::MAX / 2.0, f64::MAX / 2.0)
+    }
+}
+
+/// A tick label: plain for ordinary magnitudes, scientific otherwise, and always short.
+fn tick(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-3..1e5).contains(&a) {
+        format!("{v:.4}")
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+type Line<'a> = (&'a str, &'a dyn Fn(&Sample) -> f64, &'a RGBColor);
+
 fn series<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     label: &str,
     history: &[Sample],
-    value: impl Fn(&Sample) -> f64,
-    colour: &RGBColor,
+    lines: &[Line],
 ) -> Result<()> {
-    let t_end = history.last().map_or(1.0, |s| s.time).max(1e-12);
-    let t_start = history.first().map_or(0.0, |s| s.time);
-    let values: Vec<f64> = history.iter().map(&value).collect();
-    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let pad = ((hi - lo) * 0.1).max(hi.abs() * 1e-6).max(1e-12);
-    let (lo, hi) = if lo.is_finite() {
-        (lo - pad, hi + pad)
+    let (t_start, t_end) = axis_range(history.iter().map(|s| s.time));
+    let (t_start, t_end) = if history.len() > 1 {
+        (
+            history.first().map_or(t_start, |s| s.time),
+            history.last().map_or(t_end, |s| s.time),
+        )
     } else {
-        (0.0, 1.0)
+        (t_start, t_end)
     };
+    let (t_start, t_end) = if t_start < t_end && (t_end - t_start).is_finite() {
+        (t_start, t_end)
+    } else {
+        axis_range([t_start, t_end].into_iter())
+    };
+    let (lo, hi) = axis_range(
+        lines
+            .iter()
+            .flat_map(|(_, value, _)| history.iter().map(move |s| value(s))),
+    );
     let mut chart = ChartBuilder::on(area)
         .caption(format!("{label} over time"), ("sans-serif", 18))
         .margin(12)
-        .x_label_area_size(32)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t_start..t_end.max(t_start + 1e-12), lo..hi)
+        .x_label_area_size(36)
+        .y_label_area_size(84)
+        .build_cartesian_2d(t_start..t_end, lo..hi)
         .map_err(plot_err)?;
     chart
         .configure_mesh()
         .x_desc("time")
         .y_desc(label)
+        .x_labels(6)
+        .y_labels(6)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(plot_err)?;
-    chart
-        .draw_series(LineSeries::new(
-            history.iter().map(|s| (s.time, value(s))),
-            colour.stroke_width(2),
-        ))
-        .map_err(plot_err)?;
+    for &(name, value, colour) in lines {
+        chart
+            .draw_series(LineSeries::new(
+                history
+                    .iter()
+                    .map(|s| (s.time, value(s).clamp(lo, hi)))
+                    .filter(|(t, v)| t.is_finite() && v.is_finite()),
+                colour.stroke_width(2),
+            ))
+            .map_err(plot_err)?
+            .label(name)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 14, y)], colour.stroke_width(2))
+            });
+    }
+    if lines.len() > 1 {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(plot_err)?;
+    }
     Ok(())
 }
 
@@ -119,18 +218,24 @@ fn histogram<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     world: &World,
     total_mass: f64,
+    with_theory: bool,
 ) -> Result<()> {
     let h = bounce_scenario::analysis::speed_histogram(world, 40, total_mass);
     let (kt, width, density) = (h.kt, h.width, h.density);
     let v_max = width * density.len() as f64;
-    let curve_points: Vec<(f64, f64)> = h.curve.iter().map(|&[v, d]| (v, d)).collect();
+    let (_, v_max) = axis_range([0.0, v_max].into_iter());
+    let curve_points: Vec<(f64, f64)> = if with_theory {
+        h.curve.iter().map(|&[v, d]| (v, d)).collect()
+    } else {
+        Vec::new()
+    };
     let top = density
         .iter()
         .copied()
         .chain(curve_points.iter().map(|&(_, y)| y))
-        .fold(0.0, f64::max)
-        .max(1e-12)
-        * 1.1;
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    let (_, top) = axis_range([0.0, top].into_iter());
     let mut chart = ChartBuilder::on(area)
         .caption(
             format!(
@@ -148,6 +253,10 @@ fn histogram<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("speed")
         .y_desc("probability density")
+        .x_labels(6)
+        .y_labels(6)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(plot_err)?;
@@ -167,11 +276,13 @@ fn histogram<DB: DrawingBackend>(
                 RGBColor(120, 160, 220).filled(),
             )
         });
-    chart
-        .draw_series(LineSeries::new(curve_points, RED.stroke_width(3)))
-        .map_err(plot_err)?
-        .label("2D Maxwell–Boltzmann")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], RED.stroke_width(3)));
+    if with_theory {
+        chart
+            .draw_series(LineSeries::new(curve_points, RED.stroke_width(3)))
+            .map_err(plot_err)?
+            .label("2D Maxwell–Boltzmann")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], RED.stroke_width(3)));
+    }
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.8))

@@ -188,3 +188,39 @@ impl GifWriter {
         Ok(file.commit()?)
     }
 }
+
+/// The frame PNGs in `dir` (`frame_STEP.png`) with their steps, in step order.
+pub fn frame_files(dir: &Path) -> Vec<(u64, std::path::PathBuf)> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut frames: Vec<(u64, std::path::PathBuf)> = entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let name = e.file_name().into_string().ok()?;
+            let step = name
+                .strip_prefix("frame_")?
+                .strip_suffix(".png")?
+                .parse()
+                .ok()?;
+            Some((step, e.path()))
+        })
+        .collect();
+    frames.sort();
+    frames
+}
+
+/// Writes `path`, an animated GIF of the PNG `frames` (of `size` pixels), in order.
+pub fn gif_from_frames(
+    frames: &[(u64, std::path::PathBuf)],
+    size: (u32, u32),
+    path: &Path,
+) -> Result<()> {
+    let mut gif = GifWriter::create(path, size)?;
+    for (_, frame) in frames {
+        let pixmap = Pixmap::load_png(frame)
+            .with_context(|| format!("cannot read the frame {}", frame.display()))?;
+        gif.add(&pixmap)?;
+    }
+    gif.finish()
+}

@@ -1,23 +1,30 @@
 //! `bounce run`: a scenario stepped headless, with every output it asks for.
+//!
+//! Outputs follow a schedule: a row, frame or GSD frame at step 0, at every multiple of its
+//! interval, and at the last step. A run stopped early (a signal) finishes its step, writes
+//! its last step everywhere and a checkpoint, and exits with 128 + the signal. A resumed run
+//! (`--resume` into the same folder) first drops what came after the checkpoint's step and the
+//! stopped run's extra last step, then continues the same files: the result equals an
+//! uninterrupted run's, byte for byte for `stats.csv` and the GSD.
 
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use std::ops::ControlFlow;
-
 use anyhow::{Context, Result, anyhow, bail};
-use bounce::World;
+use bounce::{StepError, World};
 use bounce_scenario::Session;
+use bounce_scenario::checkpoint::RunState;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
 use crate::gsd::GsdWriter;
-use crate::plots::{self, Sample};
-use crate::render::{GifWriter, Painter, save_png};
-use crate::stats_csv::StatsCsv;
+use crate::plots;
+use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
+use crate::stats_csv::{StatsCsv, Totals, read_history};
 
 /// What `bounce run` was asked to do.
 pub struct RunArgs {
@@ -27,97 +34,221 @@ pub struct RunArgs {
     pub threads: usize,
     pub resume: Option<PathBuf>,
     pub quiet: bool,
+    pub force: bool,
+    /// The scenario after `--set` and `--seed`, and the name to give it.
+    pub text: String,
+    pub origin: String,
+    pub limits: bounce_scenario::Limits,
 }
 
 /// How a run ended.
 pub enum Outcome {
     Finished,
-    Interrupted,
+    /// Stopped by this signal.
+    Stopped(i32),
 }
 
-/// Runs the scenario. Ctrl-C finishes the current step, writes everything and returns
-/// [`Outcome::Interrupted`].
-pub fn run(args: &RunArgs, interrupted: Arc<AtomicBool>) -> Result<Outcome> {
-    let mut session = Session::load(&args.scenario)?;
-    prepare_out_dir(&args.out)?;
+/// The files of a run in its folder: what `--force` clears.
+const RUN_FILES: [&str; 5] = [
+    "stats.csv",
+    "animation.gif",
+    "trajectory.gsd",
+    "plots.png",
+    "checkpoint.bin",
+];
+
+/// Runs the scenario. A signal number stored in `stop` finishes the current step, writes
+/// everything and returns [`Outcome::Stopped`].
+pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
+    let setup = Instant::now();
+    let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
+    prepare_out_dir(&args.out, args.resume.is_some(), args.force)?;
+    let mut run_state = None;
     if let Some(path) = &args.resume {
-        let world = checkpoint::load(path)?;
+        let loaded = checkpoint::load(path)?;
         session
-            .resume(world, &path.display().to_string())
+            .resume(loaded.world, &path.display().to_string())
             .map_err(|e| anyhow!(e))?;
+        run_state = Some(loaded.run.unwrap_or_default());
     }
+    // Kept to replay from, should a step overflow.
+    let start_world = checkpoint::encode(&session.world, run_state.as_ref())?;
     session
         .world
         .set_threads(args.threads)
         .context("cannot start the worker threads")?;
     let total = args.steps.unwrap_or(session.steps);
-
-    let mut outputs = Outputs::create(&session, &args.out)?;
-    let world = &session.world;
-    let start_step = world.step_count();
+    let start_step = session.world.step_count();
     if start_step >= total {
         bail!(
             "nothing to do: the world is at step {start_step} and the run ends at step {total} (use --steps)"
         );
     }
-    let energy_start = world.stats().kinetic_energy;
-    outputs.record(world, true)?;
+
+    let schedule = Schedule {
+        total,
+        output: session.output.clone(),
+    };
+    let mut outputs = match run_state {
+        Some(run) => Outputs::resume(&session, &args.out, schedule, run)?,
+        None => {
+            let mut outputs = Outputs::create(&session, &args.out, schedule)?;
+            outputs.record(&session.world)?;
+            outputs
+        }
+    };
+    let energy_start = mechanical_energy(&session.world);
+    let setup_time = setup.elapsed().as_secs_f64();
 
     let progress = progress_bar(total - start_step, args.quiet);
     let clock = Instant::now();
+    let mut output_time = 0.0;
     let mut collisions = 0usize;
-    let reached = session.run_until(total, |world, stats| -> Result<_> {
+    let stepped = session.run_until(total, |world, stats| -> Result<_> {
+        let t = Instant::now();
         collisions += stats.pairs;
-        outputs.stats.accumulate(stats);
-        outputs.record(world, world.step_count() == total)?;
+        outputs.stats.totals.add(stats);
+        outputs.record(world)?;
         progress.inc(1);
-        Ok(if interrupted.load(Ordering::SeqCst) {
+        output_time += t.elapsed().as_secs_f64();
+        Ok(if stop.load(Ordering::SeqCst) != 0 {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         })
-    })?;
-    let outcome = if reached {
-        Outcome::Finished
-    } else {
-        Outcome::Interrupted
-    };
-    let world = &session.world;
+    });
     progress.finish_and_clear();
-    let wall = clock.elapsed().as_secs_f64();
-    let ran = world.step_count() - start_step;
-    outputs.finish(world)?;
+    let reached = match stepped {
+        Ok(reached) => reached,
+        Err(e) => match e.downcast::<StepError>() {
+            Ok(StepError::NonFinite { step, id }) => {
+                return overflowed(args, &start_world, outputs, step - 1, &id);
+            }
+            Ok(e) => return Err(e.into()),
+            Err(e) => return Err(e),
+        },
+    };
+    let physics_time = (clock.elapsed().as_secs_f64() - output_time).max(0.0);
+    let world = &session.world;
+    let t = Instant::now();
+    outputs.finish(world, !reached)?;
+    output_time += t.elapsed().as_secs_f64();
 
-    let energy_end = world.stats().kinetic_energy;
+    let ran = world.step_count() - start_step;
+    let energy_end = mechanical_energy(world);
+    let what = if world.config().gravity == [0.0, 0.0] {
+        "relative energy change"
+    } else {
+        "relative change of kinetic + potential energy"
+    };
     let change = if energy_start != 0.0 {
         format!("{:+.3e}", energy_end / energy_start - 1.0)
     } else {
-        "n/a (started at rest)".into()
+        "n/a (started with zero energy)".into()
     };
     println!(
-        "{}: {} particles, {ran} steps (to step {}) in {wall:.2} s, {:.1} steps/s, {collisions} collisions, relative energy change {change}, state hash {:016x}",
+        "{}: {} particles, {ran} steps (to step {}), {collisions} collisions, {what} {change}, state hash {:016x}",
         session.title,
         world.len(),
         world.step_count(),
-        ran as f64 / wall.max(1e-9),
         world.state_hash(),
     );
+    println!(
+        "time: physics {physics_time:.2} s ({:.1} steps/s), outputs {output_time:.2} s, setup {setup_time:.2} s",
+        ran as f64 / physics_time.max(1e-9),
+    );
     println!("outputs in {}", args.out.display());
-    if let Outcome::Interrupted = outcome {
-        eprintln!(
-            "interrupted at step {} of {total}; continue with: bounce run {} --out {} --resume {}",
-            world.step_count(),
-            args.scenario.display(),
-            args.out.display(),
-            args.out.join("checkpoint.bin").display()
-        );
+    if reached {
+        return Ok(Outcome::Finished);
     }
-    Ok(outcome)
+    let signal = stop.load(Ordering::SeqCst) as i32;
+    eprintln!(
+        "interrupted by signal {signal} at step {} of {total}; continue with: bounce run {} --out {} --resume {}",
+        world.step_count(),
+        args.scenario.display(),
+        args.out.display(),
+        args.out.join("checkpoint.bin").display()
+    );
+    Ok(Outcome::Stopped(signal))
 }
 
-fn prepare_out_dir(out: &Path) -> Result<()> {
+/// Kinetic plus potential energy (the potential is zero without gravity).
+fn mechanical_energy(world: &World) -> f64 {
+    world.stats().kinetic_energy + bounce_scenario::analysis::potential_energy(world)
+}
+
+/// The step after `step` overflowed: the outputs up to `step`, the last finite one, are kept
+/// and completed, a checkpoint of it is written (replayed from the run's start: runs are
+/// deterministic), and the run fails naming the step and the particle.
+fn overflowed(
+    args: &RunArgs,
+    start: &[u8],
+    outputs: Outputs,
+    step: u64,
+    id: &str,
+) -> Result<Outcome> {
+    let loaded =
+        bounce_scenario::checkpoint::decode(start, "the run's start").map_err(|e| anyhow!(e))?;
+    let mut world = loaded.world;
+    world.set_threads(args.threads)?;
+    let mut totals = Totals::resumed(loaded.run.unwrap_or_default());
+    let schedule = &outputs.schedule;
+    let dt = outputs.dt;
+    while world.step_count() < step {
+        let stats = *world.step(dt)?;
+        totals.add(&stats);
+        if schedule.on(schedule.output.stats_every, world.step_count()) {
+            totals.reset(true);
+        }
+    }
+    outputs.finish_at(&world, totals.checkpoint())?;
+    bail!(
+        "step {}: particle {id} has a non-finite position or velocity: dt, gravity or speeds \
+         are too large for f64. Outputs and checkpoint.bin hold the run up to step {step}.",
+        step + 1
+    )
+}
+
+/// Creates the folder; refuses one holding another run's files unless resuming or `force`
+/// (which clears them); removes temporary files a killed run left.
+fn prepare_out_dir(out: &Path, resume: bool, force: bool) -> Result<()> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create the output directory {}", out.display()))?;
+    let frames = out.join("frames");
+    for dir in [out, frames.as_path()] {
+        for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+            let name = entry.file_name();
+            if name
+                .to_str()
+                .is_some_and(|n| n.starts_with(bounce_scenario::atomic::TEMP_PREFIX))
+            {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+    let previous: Vec<String> = RUN_FILES
+        .iter()
+        .filter(|f| out.join(f).exists())
+        .map(|f| f.to_string())
+        .chain((!frame_files(&frames).is_empty()).then(|| "frames/".to_string()))
+        .collect();
+    if !previous.is_empty() && !resume {
+        if !force {
+            bail!(
+                "{} holds another run's files ({}): use --force to replace them, --resume to \
+                 continue that run, or another --out",
+                out.display(),
+                previous.join(", ")
+            );
+        }
+        for f in RUN_FILES {
+            let _ = std::fs::remove_file(out.join(f));
+        }
+        for (_, frame) in frame_files(&frames) {
+            std::fs::remove_file(&frame)
+                .with_context(|| format!("cannot remove {}", frame.display()))?;
+        }
+    }
     tempfile::NamedTempFile::new_in(out)
         .with_context(|| format!("cannot write in the output directory {}", out.display()))?;
     Ok(())
@@ -135,22 +266,108 @@ fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
     bar
 }
 
+/// When each output is due.
+struct Schedule {
+    total: u64,
+    output: bounce_scenario::OutputSpec,
+}
+
+/// On the schedule of an output written every `every` steps (and at step 0).
+fn on_schedule(every: u64, step: u64) -> bool {
+    step == 0 || (every > 0 && step.is_multiple_of(every))
+}
+
+impl Schedule {
+    /// On the schedule of an output written every `every` steps (and at step 0).
+    fn on(&self, every: u64, step: u64) -> bool {
+        on_schedule(every, step)
+    }
+
+    /// Due at `step`: on the schedule, or the run's last step.
+    fn due(&self, every: u64, step: u64) -> bool {
+        self.on(every, step) || step == self.total
+    }
+}
+
 /// The files a run writes, opened at the start and completed at the end.
 struct Outputs {
-    spec: bounce_scenario::OutputSpec,
+    schedule: Schedule,
     dir: PathBuf,
+    dt: f64,
     stats: StatsCsv,
     painter: Option<Painter>,
+    /// The GIF, built as frames are painted; `None` when resumed (then redrawn from the
+    /// frame files at the end).
     gif: Option<GifWriter>,
     gsd: Option<GsdWriter>,
-    history: Vec<Sample>,
     total_mass: f64,
+    /// The last step each of stats, frames and GSD was written at, so a stop does not write
+    /// a step twice.
+    recorded: [Option<u64>; 3],
 }
 
 impl Outputs {
-    fn create(session: &Session, dir: &Path) -> Result<Self> {
-        let (spec, world) = (session.output.clone(), &session.world);
+    fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
+        let world = &session.world;
         let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
+        let gsd = if schedule.output.gsd_every > 0 {
+            Some(GsdWriter::create(&dir.join("trajectory.gsd"))?)
+        } else {
+            None
+        };
+        let mut outputs = Self::open(
+            session,
+            dir,
+            schedule,
+            StatsCsv::create(dir, total_mass)?,
+            gsd,
+        )?;
+        outputs.gif = match (&outputs.painter, outputs.schedule.output.gif) {
+            (Some(p), true) => Some(GifWriter::create(&dir.join("animation.gif"), p.size())?),
+            _ => None,
+        };
+        Ok(outputs)
+    }
+
+    /// Continues the outputs in `dir` from the world's step (a checkpoint's).
+    fn resume(session: &Session, dir: &Path, schedule: Schedule, run: RunState) -> Result<Self> {
+        let world = &session.world;
+        let k = world.step_count();
+        let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
+        // Everything before the checkpoint's step, and at it only what the schedule has
+        // there (not the extra last step of a stopped run).
+        let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
+        let spec = &schedule.output;
+        let stats = StatsCsv::resume(dir, total_mass, keep(spec.stats_every), run)?;
+        let gsd = if spec.gsd_every > 0 {
+            Some(GsdWriter::resume(
+                &dir.join("trajectory.gsd"),
+                keep(spec.gsd_every),
+            )?)
+        } else {
+            None
+        };
+        let keep_frame = keep(spec.frame_every);
+        for (step, frame) in frame_files(&dir.join("frames")) {
+            if !keep_frame(step) {
+                std::fs::remove_file(&frame)
+                    .with_context(|| format!("cannot remove {}", frame.display()))?;
+            }
+        }
+        let mut outputs = Self::open(session, dir, schedule, stats, gsd)?;
+        outputs.recorded = [Some(k); 3];
+        Ok(outputs)
+    }
+
+    fn open(
+        session: &Session,
+        dir: &Path,
+        schedule: Schedule,
+        stats: StatsCsv,
+        gsd: Option<GsdWriter>,
+    ) -> Result<Self> {
+        let world = &session.world;
+        let spec = &schedule.output;
         let painter = (spec.frame_every > 0).then(|| {
             Painter::new(
                 world,
@@ -164,42 +381,43 @@ impl Outputs {
             std::fs::create_dir_all(dir.join("frames"))
                 .with_context(|| format!("cannot create {}", dir.join("frames").display()))?;
         }
-        let gif = match (&painter, spec.gif) {
-            (Some(p), true) => Some(GifWriter::create(&dir.join("animation.gif"), p.size())?),
-            _ => None,
-        };
-        let gsd = if spec.gsd_every > 0 {
-            Some(GsdWriter::create(&dir.join("trajectory.gsd"))?)
-        } else {
-            None
-        };
         Ok(Outputs {
-            stats: StatsCsv::create(dir, total_mass)?,
-            spec,
+            total_mass: bounce_scenario::analysis::masses(world).iter().sum(),
+            schedule,
             dir: dir.to_path_buf(),
+            dt: session.dt,
+            stats,
             painter,
-            gif,
+            gif: None,
             gsd,
-            history: Vec::new(),
-            total_mass,
+            recorded: [None; 3],
         })
     }
 
-    /// Writes what is due at the world's current step (`force`: the first or last step).
-    fn record(&mut self, world: &World, force: bool) -> Result<()> {
+    /// Writes what is due at the world's current step; with `last`, everything (the last
+    /// step of a stopped run).
+    fn write(&mut self, world: &World, last: bool) -> Result<()> {
         let step = world.step_count();
-        let due = |every: u64| every > 0 && step.is_multiple_of(every);
-        if due(self.spec.stats_every) || force {
-            self.stats.row(world)?;
-            let s = world.stats();
-            self.history.push(Sample {
-                time: world.time(),
-                energy: s.kinetic_energy,
-                momentum: s.momentum,
-            });
+        let spec = self.schedule.output.clone();
+        let mut due = |output: usize, every: u64| {
+            let due =
+                self.recorded[output] != Some(step) && (last || self.schedule.due(every, step));
+            if due {
+                self.recorded[output] = Some(step);
+            }
+            due
+        };
+        let (stats_due, frame_due, gsd_due) = (
+            due(0, spec.stats_every),
+            due(1, spec.frame_every),
+            due(2, spec.gsd_every),
+        );
+        if stats_due {
+            let scheduled = self.schedule.on(spec.stats_every, step);
+            self.stats.row(world, scheduled)?;
         }
         if let Some(painter) = &self.painter
-            && (due(self.spec.frame_every) || force)
+            && frame_due
         {
             let pixmap = painter.paint(world);
             save_png(
@@ -211,28 +429,56 @@ impl Outputs {
             }
         }
         if let Some(gsd) = &mut self.gsd
-            && (due(self.spec.gsd_every) || force)
+            && gsd_due
         {
             gsd.frame(world)?;
         }
-        if due(self.spec.checkpoint_every) && !force {
-            checkpoint::save(world, &self.dir.join("checkpoint.bin"))?;
+        if self.schedule.on(spec.checkpoint_every, step) && spec.checkpoint_every > 0 && step > 0 {
+            checkpoint::save(
+                world,
+                Some(&self.stats.totals.checkpoint()),
+                &self.dir.join("checkpoint.bin"),
+            )?;
         }
         Ok(())
     }
 
-    fn finish(self, world: &World) -> Result<()> {
-        checkpoint::save(world, &self.dir.join("checkpoint.bin"))?;
-        self.stats.finish()?;
-        if let Some(gif) = self.gif {
-            gif.finish()?;
+    /// Writes what is due at the world's current step.
+    fn record(&mut self, world: &World) -> Result<()> {
+        self.write(world, false)
+    }
+
+    /// Completes every file; `stopped`: the run ends before its last step, which is then
+    /// written everywhere.
+    fn finish(mut self, world: &World, stopped: bool) -> Result<()> {
+        // The checkpoint keeps the totals as the schedule has them, before the extra row.
+        let totals = self.stats.totals.checkpoint();
+        if stopped {
+            self.write(world, true)?;
         }
+        self.finish_at(world, totals)
+    }
+
+    /// Writes the checkpoint of `world` with `totals` and completes the files.
+    fn finish_at(self, world: &World, totals: RunState) -> Result<()> {
+        checkpoint::save(world, Some(&totals), &self.dir.join("checkpoint.bin"))?;
+        self.stats.finish()?;
         if let Some(gsd) = self.gsd {
             gsd.finish()?;
         }
-        if self.spec.plots {
+        // A resumed run's GIF and plots are drawn from the whole run's files.
+        if let Some(gif) = self.gif {
+            gif.finish()?;
+        } else if let Some(painter) = &self.painter
+            && self.schedule.output.gif
+        {
+            let frames = frame_files(&self.dir.join("frames"));
+            gif_from_frames(&frames, painter.size(), &self.dir.join("animation.gif"))?;
+        }
+        if self.schedule.output.plots {
+            let history = read_history(&self.dir.join("stats.csv"))?;
             plots::draw(
-                &self.history,
+                &history,
                 world,
                 self.total_mass,
                 &self.dir.join("plots.png"),

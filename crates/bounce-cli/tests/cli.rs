@@ -271,7 +271,10 @@ fn ctrl_c_finishes_the_step_and_writes_a_checkpoint() {
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("interrupted at step"), "{stderr}");
+    assert!(
+        stderr.contains("interrupted by signal 2 at step"),
+        "{stderr}"
+    );
     assert!(stderr.contains("--resume"), "{stderr}");
     // Everything is complete: the GSD file opens, the CSV ends with a full row.
     for file in [
@@ -284,7 +287,7 @@ fn ctrl_c_finishes_the_step_and_writes_a_checkpoint() {
         assert!(s.path("out").join(file).exists(), "{file}");
     }
     let csv = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
-    assert!(csv.ends_with('\n') && csv.lines().last().unwrap().split(',').count() == 9);
+    assert!(csv.ends_with('\n') && csv.lines().last().unwrap().split(',').count() == 10);
 }
 
 #[test]

@@ -15,6 +15,21 @@ pub fn masses(world: &World) -> Vec<f64> {
         .collect()
 }
 
+/// The potential energy in the uniform gravity field, `−Σ m g·x` (zero at the origin), with
+/// the world's mass model. Zero without gravity.
+pub fn potential_energy(world: &World) -> f64 {
+    let g = world.config().gravity;
+    if g == [0.0, 0.0] {
+        return 0.0;
+    }
+    let p = world.particles();
+    masses(world)
+        .iter()
+        .zip(p.x().iter().zip(p.y()))
+        .map(|(m, (x, y))| -m * (g[0] * x + g[1] * y))
+        .sum()
+}
+
 /// `kT` from the kinetic energy in the centre-of-mass frame: in 2D each disc carries `kT`.
 /// `total_mass` is the sum of [`masses`] (kept by callers, since masses do not change).
 pub fn temperature(world: &World, total_mass: f64) -> f64 {

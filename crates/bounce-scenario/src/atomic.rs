@@ -7,6 +7,9 @@ use std::path::{Path, PathBuf};
 
 use tempfile::NamedTempFile;
 
+/// Temporary files start with this, so a later run can remove those a killed one left.
+pub const TEMP_PREFIX: &str = ".bounce-tmp-";
+
 /// An I/O error with the path it concerns in its message.
 fn named(what: &str, path: &Path, e: io::Error) -> io::Error {
     io::Error::new(e.kind(), format!("cannot {what} {}: {e}", path.display()))
@@ -27,6 +30,7 @@ impl AtomicFile {
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
         let mut builder = tempfile::Builder::new();
+        builder.prefix(TEMP_PREFIX);
         // Outputs are ordinary files (the umask still applies), not private temporaries.
         #[cfg(unix)]
         builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));

@@ -26,6 +26,7 @@ pub mod palette;
 mod session;
 pub use colour::{Rgb, parse_colour, ramp};
 pub use session::{Session, view_bounds};
+pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
 pub const TEMPLATES: [(&str, &str); 6] = [
@@ -359,6 +360,65 @@ impl ScenarioError {
     }
 }
 
+/// Memory a run needs per disc, with room to spare: the hot arrays and the candidate lists
+/// (about 95 bytes per disc measured at 10^6), the generator's and the outputs' copies.
+pub const BYTES_PER_PARTICLE: u64 = 256;
+
+/// What a scenario needs, estimated before it is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Estimate {
+    /// Discs.
+    pub particles: u64,
+    /// Bytes of memory, about.
+    pub bytes: u64,
+}
+
+/// The resources a scenario may use; a larger one is refused before anything is allocated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Bytes of memory. Default: half the machine's memory (4 GiB where it cannot be read).
+    pub memory_bytes: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            memory_bytes: machine_memory().map_or(4 << 30, |m| m / 2),
+        }
+    }
+}
+
+impl Limits {
+    /// A limit of `gib` GiB of memory.
+    pub fn memory_gib(gib: f64) -> Limits {
+        Limits {
+            memory_bytes: (gib * (1u64 << 30) as f64) as u64,
+        }
+    }
+
+    /// Refuses an estimate over the limit, saying both.
+    pub fn check(&self, estimate: &Estimate) -> Result<(), String> {
+        if estimate.bytes > self.memory_bytes {
+            return Err(format!(
+                "{} particles need about {:.1} GiB, over the limit of {:.1} GiB (half the \
+                 machine's memory by default; raise it with --memory-limit GIB)",
+                estimate.particles,
+                estimate.bytes as f64 / (1u64 << 30) as f64,
+                self.memory_bytes as f64 / (1u64 << 30) as f64
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The machine's memory in bytes, from `/proc/meminfo` (Linux).
+fn machine_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// A scenario turned into a world.
 pub struct Built {
     /// The world, particles added.
@@ -482,21 +542,34 @@ impl Scenario {
         }
     }
 
-    /// Total particles the scenario asks for.
-    pub fn particle_count(&self) -> usize {
-        self.gas.iter().map(|g| g.get_ref().count).sum::<usize>()
-            + self
-                .lattice
-                .iter()
-                .map(|l| l.get_ref().counts[0] * l.get_ref().counts[1])
-                .sum::<usize>()
-            + self.disc.len()
-            + self
-                .block
-                .iter()
-                .map(|b| block_counts(b.get_ref(), &Law::new(&self.config())))
-                .map(|[x, y]| x * y)
-                .sum::<usize>()
+    /// Total particles the scenario asks for; `None` when the count overflows 64 bits.
+    pub fn particle_count(&self) -> Option<u64> {
+        let law = Law::new(&self.config());
+        let product = |[x, y]: [usize; 2]| (x as u64).checked_mul(y as u64);
+        let mut total = self.disc.len() as u64;
+        for n in self
+            .gas
+            .iter()
+            .map(|g| Some(g.get_ref().count as u64))
+            .chain(self.lattice.iter().map(|l| product(l.get_ref().counts)))
+            .chain(
+                self.block
+                    .iter()
+                    .map(|b| product(block_counts(b.get_ref(), &law))),
+            )
+        {
+            total = total.checked_add(n?)?;
+        }
+        Some(total)
+    }
+
+    /// What running the scenario needs, estimated before placing a disc.
+    pub fn estimate(&self) -> Option<Estimate> {
+        let particles = self.particle_count()?;
+        Some(Estimate {
+            particles,
+            bytes: particles.saturating_mul(BYTES_PER_PARTICLE),
+        })
     }
 
     /// Whether any generator sets a colour.
@@ -622,7 +695,12 @@ impl Scenario {
                 &mut at,
             );
         }
-        if self.particle_count() == 0 {
+        if self.particle_count().is_none() {
+            at(
+                None,
+                "the scenario asks for more particles than 2^64 (a count overflows)".into(),
+            );
+        } else if self.particle_count() == Some(0) {
             at(
                 None,
                 "the scenario has no particles: add [[gas]], [[lattice]], [[block]] or [[disc]]"
@@ -649,20 +727,46 @@ impl Scenario {
         out
     }
 
-    /// Places the particles and returns the world. `file` and `source` name problems.
+    /// Places the particles and returns the world, within the default [`Limits`]. `file` and
+    /// `source` name problems.
     pub fn build(&self, source: &str, file: &str) -> Result<Built, ScenarioError> {
+        self.build_with(source, file, &Limits::default())
+    }
+
+    /// Places the particles and returns the world; refuses up front, with the estimate, a
+    /// scenario that needs more than `limits` allow.
+    pub fn build_with(
+        &self,
+        source: &str,
+        file: &str,
+        limits: &Limits,
+    ) -> Result<Built, ScenarioError> {
         let fail = |line: Option<usize>, message: String| ScenarioError {
             file: file.to_string(),
             problems: vec![Problem { line, message }],
         };
+        let estimate = self
+            .estimate()
+            .ok_or_else(|| fail(None, "the particle count overflows".into()))?;
+        limits.check(&estimate).map_err(|m| fail(None, m))?;
         let config = self.config();
         let mut world = World::new(config.clone()).map_err(|e| fail(None, e.to_string()))?;
         let mut colours = Vec::new();
-        let mut add = |discs: Vec<Particle>, colour: &Option<String>, line: usize, what: String| {
+        // Every disc so far, so later generators keep clear of earlier tables' discs.
+        let mut placed: Vec<Particle> = Vec::new();
+        // Which table made which ids: (first id, what, line).
+        let mut tables: Vec<(usize, String, usize)> = Vec::new();
+        let mut add = |discs: Vec<Particle>,
+                       colour: &Option<String>,
+                       line: usize,
+                       what: String,
+                       placed: &mut Vec<Particle>| {
             let rgb = colour
                 .as_deref()
                 .map(|c| parse_colour(c).expect("checked in problems"));
             let n = discs.len();
+            tables.push((placed.len(), what.clone(), line));
+            placed.extend_from_slice(&discs);
             world.add_particles(discs).map_err(|(i, e)| {
                 fail(
                     Some(line),
@@ -718,9 +822,15 @@ impl Scenario {
                         drift: spec.drift,
                         seed: spec.seed,
                     };
-                    let discs = scene::gas(&gas, &config)
+                    let discs = scene::gas_among(&gas, &config, &placed)
                         .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
-                    add(discs, &spec.color, line, format!("gas #{}", k + 1))?;
+                    add(
+                        discs,
+                        &spec.color,
+                        line,
+                        format!("gas #{}", k + 1),
+                        &mut placed,
+                    )?;
                 }
                 Entry::Lattice(k) => {
                     let spec = self.lattice[k].get_ref();
@@ -731,7 +841,13 @@ impl Scenario {
                         radius: spec.radius,
                         velocity: spec.velocity,
                     });
-                    add(discs, &spec.color, line, format!("lattice #{}", k + 1))?;
+                    add(
+                        discs,
+                        &spec.color,
+                        line,
+                        format!("lattice #{}", k + 1),
+                        &mut placed,
+                    )?;
                 }
                 Entry::Block(k) => {
                     let spec = self.block[k].get_ref();
@@ -744,7 +860,13 @@ impl Scenario {
                         radius: spec.radius,
                         velocity: spec.velocity,
                     });
-                    add(discs, &spec.color, line, format!("block #{}", k + 1))?;
+                    add(
+                        discs,
+                        &spec.color,
+                        line,
+                        format!("block #{}", k + 1),
+                        &mut placed,
+                    )?;
                 }
                 Entry::Disc(k) => {
                     let spec = self.disc[k].get_ref();
@@ -754,12 +876,77 @@ impl Scenario {
                         radius: spec.radius,
                         mass: spec.mass,
                     };
-                    add(vec![disc], &spec.color, line, format!("disc #{}", k + 1))?;
+                    add(
+                        vec![disc],
+                        &spec.color,
+                        line,
+                        format!("disc #{}", k + 1),
+                        &mut placed,
+                    )?;
                 }
             }
         }
+        let overlaps = overlapping(&world, &tables);
+        if !overlaps.is_empty() {
+            return Err(ScenarioError {
+                file: file.to_string(),
+                problems: overlaps,
+            });
+        }
         Ok(Built { world, colours })
     }
+}
+
+/// Discs that start overlapping (closer than their collision distance, not just touching),
+/// named by their tables: at most one problem per pair of tables.
+fn overlapping(world: &World, tables: &[(usize, String, usize)]) -> Vec<Problem> {
+    let law = Law::new(world.config());
+    let table_of = |id: u32| {
+        let k = tables.partition_point(|t| t.0 <= id as usize) - 1;
+        &tables[k]
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    let mut out = Vec::new();
+    for (a, b) in world.colliding_pairs() {
+        let (pa, pb) = (
+            world.particle(a).expect("listed"),
+            world.particle(b).expect("listed"),
+        );
+        let (dx, dy) = (
+            pa.position[0] - pb.position[0],
+            pa.position[1] - pb.position[1],
+        );
+        let gap = law.collision_distance(pa.radius, pb.radius) - (dx * dx + dy * dy).sqrt();
+        // Only real overlaps (a lattice of touching discs is fine); the minimum image of a
+        // periodic box is left to the grid, which found the pair.
+        if gap <= 1e-9 * law.collision_distance(pa.radius, pb.radius) {
+            continue;
+        }
+        let (ta, tb) = (table_of(a.0), table_of(b.0));
+        if !seen.insert((ta.0, tb.0)) {
+            continue;
+        }
+        let message = if ta.0 == tb.0 {
+            format!(
+                "{}: its discs {} and {} overlap by {gap:.3} (spacing below the collision distance)",
+                ta.1, a.0, b.0
+            )
+        } else {
+            format!(
+                "{} (line {}) and {} (line {}) overlap: discs {} and {} by {gap:.3}; move one \
+                 or let a [[gas]] come later (generators keep clear of earlier tables)",
+                ta.1, ta.2, tb.1, tb.2, a.0, b.0
+            )
+        };
+        out.push(Problem {
+            line: Some(tb.2),
+            message,
+        });
+        if out.len() >= 10 {
+            break;
+        }
+    }
+    out
 }
 
 /// A particle table, for building in file order.

@@ -11,7 +11,7 @@ use std::path::Path;
 
 use bounce::{StepError, StepStats, World};
 
-use crate::{ColorBy, OutputSpec, Problem, Rgb, Scenario, ScenarioError};
+use crate::{ColorBy, Limits, OutputSpec, Problem, Rgb, Scenario, ScenarioError};
 
 /// A scenario ready to run.
 #[derive(Debug)]
@@ -45,8 +45,17 @@ pub struct Session {
 impl Session {
     /// A session from scenario text; `origin` names it in messages.
     pub fn from_text(origin: &str, text: &str) -> Result<Session, ScenarioError> {
+        Session::from_text_with(origin, text, &Limits::default())
+    }
+
+    /// A session from scenario text within `limits`.
+    pub fn from_text_with(
+        origin: &str,
+        text: &str,
+        limits: &Limits,
+    ) -> Result<Session, ScenarioError> {
         let scenario = crate::parse(text, origin)?;
-        let built = scenario.build(text, origin)?;
+        let built = scenario.build_with(text, origin, limits)?;
         let colour_by = scenario
             .output
             .color_by
@@ -129,15 +138,23 @@ impl Session {
         Ok(true)
     }
 
-    /// Replaces the world with one loaded from a checkpoint, which must hold as many discs as
-    /// the scenario makes.
+    /// Replaces the world with one loaded from a checkpoint, which must be of this scenario:
+    /// the same configuration and as many discs. Otherwise says what differs.
     pub fn resume(&mut self, world: World, checkpoint: &str) -> Result<(), String> {
+        let mut differences =
+            crate::checkpoint::config_differences(self.world.config(), world.config());
         if world.len() != self.world.len() {
+            differences.push(format!(
+                "particles: {} vs {}",
+                self.world.len(),
+                world.len()
+            ));
+        }
+        if !differences.is_empty() {
             return Err(format!(
-                "{checkpoint}: the checkpoint has {} particles but {} makes {}",
-                world.len(),
+                "{checkpoint} is not a checkpoint of {} (scenario vs checkpoint): {}",
                 self.origin,
-                self.world.len()
+                differences.join("; ")
             ));
         }
         let threads = self.world.threads();
@@ -213,6 +230,10 @@ mod tests {
         let mut s = Session::builtin("gas").unwrap();
         let other = Session::builtin("pile").unwrap().world;
         let e = s.resume(other, "c.bin").unwrap_err();
-        assert!(e.contains("c.bin") && e.contains("particles"), "{e}");
+        assert!(
+            e.contains("c.bin") && e.contains("particles: 2000 vs"),
+            "{e}"
+        );
+        assert!(e.contains("gravity: [0.0, 0.0] vs [0.0, -"), "{e}");
     }
 }

@@ -198,7 +198,7 @@ impl ViewerApp {
     fn load_checkpoint(&mut self) {
         let path = self.path_or("checkpoint.bin");
         match bounce_scenario::checkpoint::load(&path) {
-            Ok(world) => {
+            Ok(bounce_scenario::checkpoint::Checkpoint { world, .. }) => {
                 let threads = self.session.world.threads();
                 if world.len() != self.session.colours.len() {
                     self.session.colours = vec![None; world.len()];
@@ -789,7 +789,7 @@ impl eframe::App for ViewerApp {
 /// Writes a checkpoint whole or not at all, as the CLI does.
 #[cfg(not(target_arch = "wasm32"))]
 fn save_checkpoint(world: &World, path: &std::path::Path) -> Result<(), String> {
-    bounce_scenario::checkpoint::save(world, path)
+    bounce_scenario::checkpoint::save(world, None, path)
 }
 
 /// The browser has no files to write.

@@ -36,6 +36,7 @@ pub struct Config {
     /// Substeps per [`crate::World::step`]: each runs integrate → boundary → detect → resolve
     /// with `dt / substeps`. Default `1`, as in the seed's one-pass loop; raise it for stacks and
     /// piles where overlaps must stay small. Must be `>= 1`.
+    /// At most [`MAX_SUBSTEPS`].
     pub substeps: u32,
     /// What happens at the edge of the world. Default [`Boundary::Open`]: the seed names no box,
     /// and an open world invents no length scale. Use [`Boundary::walls`] for a container.
@@ -50,6 +51,9 @@ pub struct Config {
     /// the seed's.
     pub velocity_update: VelocityUpdate,
 }
+
+/// The most substeps a step may have ([`Config::substeps`]).
+pub const MAX_SUBSTEPS: u32 = 10_000;
 
 impl Default for Config {
     fn default() -> Self {
@@ -225,8 +229,12 @@ impl Config {
         if !self.gravity.iter().all(|g| g.is_finite()) {
             err("gravity", format!("{:?}", self.gravity), "must be finite");
         }
-        if self.substeps == 0 {
-            err("substeps", "0".into(), "must be >= 1");
+        if !(1..=MAX_SUBSTEPS).contains(&self.substeps) {
+            err(
+                "substeps",
+                self.substeps.to_string(),
+                "must be in 1..=10000 (more makes one step take minutes and ignore Ctrl-C)",
+            );
         }
         if let Some((min, max)) = self.boundary.bounds() {
             if !min.iter().chain(&max).all(|v| v.is_finite()) {

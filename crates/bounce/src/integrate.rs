@@ -25,6 +25,8 @@ pub(crate) struct Moved {
     pub max_displacement2: f64,
     /// The longest distance a disc moved in this substep.
     pub max_stride: f64,
+    /// Whether every position and velocity is finite after the move.
+    pub finite: bool,
 }
 
 /// One chunk of the arrays a pass writes, and the index of its first disc.
@@ -108,10 +110,12 @@ pub(crate) fn integrate(
         ..Moved::default()
     };
     let mut max_speed2 = 0.0f64;
-    for (impulse, d2, v2) in &partial {
+    moved.finite = true;
+    for (impulse, d2, v2, finite) in &partial {
         moved.impulse.add(impulse);
         moved.max_displacement2 = moved.max_displacement2.max(*d2);
         max_speed2 = max_speed2.max(*v2);
+        moved.finite &= finite;
     }
     moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
@@ -127,13 +131,14 @@ struct Pass<'r> {
 
 impl Pass<'_> {
     /// The pass over the chunks, with the boundary and the reference check chosen once;
-    /// per chunk the wall impulse, the largest squared displacement and speed.
+    /// per chunk the wall impulse, the largest squared displacement and speed, and whether
+    /// every value is finite.
     fn run(
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
         boundary: impl Fn(usize, &mut [f64; 4], &mut WallImpulse) + Sync,
-    ) -> Vec<(WallImpulse, f64, f64)> {
+    ) -> Vec<(WallImpulse, f64, f64, bool)> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         match self.reference {
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
@@ -149,19 +154,20 @@ impl Pass<'_> {
     }
 
     /// One chunk: the wall impulse, the largest squared displacement and the largest squared
-    /// speed. `boundary` gets the disc's index and `[x, y, vx, vy]`.
+    /// speed, and whether every value is finite. `boundary` gets the disc's index and `[x, y, vx, vy]`.
     #[inline(always)]
     fn chunk(
         &self,
         chunk: &mut Chunk,
         boundary: &impl Fn(usize, &mut [f64; 4], &mut WallImpulse),
         displacement2: impl Fn(usize, f64, f64) -> f64,
-    ) -> (WallImpulse, f64, f64) {
+    ) -> (WallImpulse, f64, f64, bool) {
         let [gx, gy] = self.gravity;
         let h = self.h;
         let mut impulse = WallImpulse::default();
         let mut max_displacement2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
+        let mut finite = true;
         let Chunk { base, x, y, vx, vy } = chunk;
         let discs = x
             .iter_mut()
@@ -176,7 +182,8 @@ impl Pass<'_> {
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
             max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
+            finite &= xi.is_finite() & yi.is_finite() & vxi.is_finite() & vyi.is_finite();
         }
-        (impulse, max_displacement2, max_speed2)
+        (impulse, max_displacement2, max_speed2, finite)
     }
 }

@@ -52,7 +52,9 @@ pub mod scene;
 mod stats;
 mod world;
 
-pub use config::{Boundary, Config, ConfigError, MassModel, RestitutionModel, VelocityUpdate};
+pub use config::{
+    Boundary, Config, ConfigError, MAX_SUBSTEPS, MassModel, RestitutionModel, VelocityUpdate,
+};
 pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};

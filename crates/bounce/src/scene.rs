@@ -97,7 +97,30 @@ fn invalid(field: &'static str, value: String, expected: &'static str) -> SceneE
 
 /// Places a random gas for `config`. Fails if the spec is invalid or the discs do not fit.
 pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
+    gas_among(spec, config, &[])
+}
+
+/// The most discs one generator places.
+pub const MAX_GAS_COUNT: usize = 1 << 40;
+
+/// Places a random gas for `config` whose discs keep clear of `existing` ones (placed by
+/// earlier generators) as of each other. Fails if the spec is invalid or the discs do not fit.
+///
+/// The work per attempt is bounded by the discs placed so far, whatever the radii, the
+/// collision_radius_scale or the region's size.
+pub fn gas_among(
+    spec: &Gas,
+    config: &Config,
+    existing: &[Particle],
+) -> Result<Vec<Particle>, SceneError> {
     let [r_lo, r_hi] = spec.radius;
+    if spec.count > MAX_GAS_COUNT {
+        return Err(invalid(
+            "count",
+            spec.count.to_string(),
+            "at most 2^40 discs per generator",
+        ));
+    }
     if !(r_lo.is_finite() && r_lo > 0.0 && r_hi.is_finite() && r_hi >= r_lo) {
         return Err(invalid(
             "radius",
@@ -145,7 +168,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
     // a million discs cost 8 MB here, not a Vec per cell.
     const NONE: u32 = u32::MAX;
     let mut head = vec![NONE; n[0] * n[1]];
-    let mut next: Vec<u32> = Vec::with_capacity(spec.count);
+    let mut next: Vec<u32> = Vec::with_capacity(spec.count + existing.len());
     let cell_of = |p: [f64; 2]| -> [usize; 2] {
         [0, 1].map(|a| (((p[a] - min[a]) / size[a] * n[a] as f64) as usize).min(n[a] - 1))
     };
@@ -158,6 +181,17 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
             d
         }
     };
+    // Every disc to keep clear of, earlier generators' first: (centre, radius).
+    let mut all: Vec<([f64; 2], f64)> = Vec::with_capacity(spec.count + existing.len());
+    for q in existing {
+        let cell = cell_of(q.position);
+        let cell = cell[1] * n[0] + cell[0];
+        next.push(head[cell]);
+        head[cell] = all.len() as u32;
+        all.push((q.position, q.radius));
+    }
+    // Partners reach at most this far.
+    let r_far = existing.iter().map(|q| q.radius).fold(r_hi, f64::max);
     let mut placed: Vec<Particle> = Vec::with_capacity(spec.count);
     for &r in &radii {
         // Centres keep a radius from walls (and from an open region's edge).
@@ -174,10 +208,27 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
                 [0, 1].map(|a| min[a] + margin + (size[a] - 2.0 * margin) * rng.random::<f64>());
             let pos = [0, 1].map(|a| if pos[a] >= max[a] { min[a] } else { pos[a] });
             let c = cell_of(pos);
-            // Large discs reach further than one cell of the placement grid.
-            let pair_reach = law.collision_distance(r, r_hi);
-            let span =
-                [0, 1].map(|a| ((pair_reach / size[a] * n[a] as f64).ceil() as isize).max(1));
+            let clear = |q: &([f64; 2], f64)| {
+                let dxp = min_image(pos[0] - q.0[0], 0);
+                let dyp = min_image(pos[1] - q.0[1], 1);
+                !law.is_colliding([dxp, dyp], r, q.1)
+            };
+            // Large discs reach further than one cell of the placement grid (at most the
+            // whole grid).
+            let pair_reach = law.collision_distance(r, r_far);
+            let span = [0, 1].map(|a| {
+                let cells = (pair_reach / size[a] * n[a] as f64).ceil();
+                (cells.min(n[a] as f64) as isize).max(1)
+            });
+            let window = (2 * span[0] + 1) as usize * (2 * span[1] + 1) as usize;
+            if window > all.len() {
+                // Fewer discs than cells to visit: test them all.
+                if all.iter().all(clear) {
+                    found = Some((pos, c));
+                    break;
+                }
+                continue 'attempt;
+            }
             for dy in -span[1]..=span[1] {
                 for dx in -span[0]..=span[0] {
                     let (cx, cy) = (c[0] as isize + dx, c[1] as isize + dy);
@@ -190,11 +241,9 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
                     };
                     let mut j = head[cy as usize * n[0] + cx as usize];
                     while j != NONE {
-                        let q: &Particle = &placed[j as usize];
+                        let q = &all[j as usize];
                         j = next[j as usize];
-                        let dxp = min_image(pos[0] - q.position[0], 0);
-                        let dyp = min_image(pos[1] - q.position[1], 1);
-                        if law.is_colliding([dxp, dyp], r, q.radius) {
+                        if !clear(q) {
                             continue 'attempt;
                         }
                     }
@@ -211,7 +260,8 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
         };
         let cell = c[1] * n[0] + c[0];
         next.push(head[cell]);
-        head[cell] = placed.len() as u32;
+        head[cell] = all.len() as u32;
+        all.push((pos, r));
         placed.push(Particle::new(pos, [0.0, 0.0], r));
     }
 

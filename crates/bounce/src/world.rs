@@ -58,6 +58,19 @@ pub enum StepError {
     /// The time step is not a finite number `> 0`.
     #[error("time step dt = {0} must be finite and > 0")]
     InvalidTimeStep(f64),
+    /// A position or velocity overflowed (became infinite or NaN) during the step: the time
+    /// step, gravity or speeds are too large for `f64`. The world's state is no longer
+    /// usable; reload a checkpoint.
+    #[error(
+        "step {step}: particle {id} has a non-finite position or velocity (dt, gravity or \
+         speeds too large for f64)"
+    )]
+    NonFinite {
+        /// The step that overflowed.
+        step: u64,
+        /// The first particle (by id) with a non-finite value, when one is.
+        id: String,
+    },
 }
 
 /// Why a configuration or loaded state was refused.
@@ -192,11 +205,17 @@ impl World {
         let mut profile = StepProfile::default();
         let mut clock = Stopwatch::start();
         let mut reordered = false;
+        let mut finite = true;
         for _ in 0..self.config.substeps {
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
             profile.integrate += clock.lap();
+            if !moved.finite {
+                // Grids cannot bin an infinite position: stop the step here.
+                finite = false;
+                break;
+            }
 
             let rebuilt = bp.update(
                 &mut self.particles,
@@ -225,6 +244,14 @@ impl World {
         self.steps += 1;
         if reordered {
             self.index_of = OnceLock::new();
+        }
+        let momentum_finite = stats.momentum.iter().all(|v| v.is_finite());
+        if !(finite && stats.kinetic_energy.is_finite() && momentum_finite) {
+            self.broadphase.invalidate();
+            return Err(StepError::NonFinite {
+                step: self.steps,
+                id: self.first_non_finite(),
+            });
         }
         Ok(&self.stats)
     }
@@ -393,6 +420,21 @@ impl World {
         hash
     }
 
+    /// The lowest id with a non-finite position or velocity, or `?` when every value is
+    /// finite (then a sum overflowed).
+    fn first_non_finite(&self) -> String {
+        let p = &self.particles;
+        (0..p.len())
+            .filter(|&i| {
+                ![p.x[i], p.y[i], p.vx[i], p.vy[i]]
+                    .iter()
+                    .all(|v| v.is_finite())
+            })
+            .map(|i| p.id[i].0)
+            .min()
+            .map_or_else(|| "?".into(), |id| id.to_string())
+    }
+
     fn refresh_stats(&mut self) {
         (self.stats.kinetic_energy, self.stats.momentum) =
             energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
@@ -439,7 +481,15 @@ impl TryFrom<WorldState> for World {
                 "{n} ids but array lengths {lengths:?}"
             )));
         }
-        let mut seen = vec![false; state.next_id as usize];
+        // Particles are never removed, so the ids are exactly 0..n and `next_id` is n. Checked
+        // with a bitmap of n (the arrays' own length), never by a size read from the data.
+        if state.next_id as usize != n {
+            return Err(WorldError::Inconsistent(format!(
+                "next_id {} does not follow the {n} particle ids",
+                state.next_id
+            )));
+        }
+        let mut seen = vec![false; n];
         for i in 0..n {
             let id = p.id[i];
             match seen.get_mut(id.0 as usize) {
