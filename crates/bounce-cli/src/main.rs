@@ -17,7 +17,7 @@ use clap::{Parser, Subcommand};
 
 /// bounce: a fast, faithful, deterministic 2D disc collision simulator.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(name = "bounce", version, about)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

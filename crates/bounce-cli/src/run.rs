@@ -85,6 +85,15 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
         );
     }
 
+    let energy_start = mechanical_energy(&session.world);
+    if !energy_start.is_finite() {
+        bail!(
+            "{}: the potential energy in the gravity field overflows f64 at the start (gravity \
+             {:?} is too strong for these positions)",
+            session.origin,
+            session.world.config().gravity
+        );
+    }
     let schedule = Schedule {
         total,
         output: session.output.clone(),
@@ -97,7 +106,6 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
             outputs
         }
     };
-    let energy_start = mechanical_energy(&session.world);
     let setup_time = setup.elapsed().as_secs_f64();
 
     let progress = progress_bar(total - start_step, args.quiet);
@@ -203,7 +211,7 @@ fn overflowed(
     }
     outputs.finish_at(&world, totals.checkpoint())?;
     bail!(
-        "step {}: particle {id} has a non-finite position or velocity: dt, gravity or speeds \
+        "step {}: particle {id} has a non-finite position, velocity or kinetic energy: dt, gravity or speeds \
          are too large for f64. Outputs and checkpoint.bin hold the run up to step {step}.",
         step + 1
     )
@@ -309,7 +317,7 @@ struct Outputs {
 impl Outputs {
     fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
         let world = &session.world;
-        let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
+        let total_mass: f64 = bounce_scenario::analysis::total_mass(world);
         let gsd = if schedule.output.gsd_every > 0 {
             Some(GsdWriter::create(&dir.join("trajectory.gsd"))?)
         } else {
@@ -333,7 +341,7 @@ impl Outputs {
     fn resume(session: &Session, dir: &Path, schedule: Schedule, run: RunState) -> Result<Self> {
         let world = &session.world;
         let k = world.step_count();
-        let total_mass: f64 = bounce_scenario::analysis::masses(world).iter().sum();
+        let total_mass: f64 = bounce_scenario::analysis::total_mass(world);
         // Everything before the checkpoint's step, and at it only what the schedule has
         // there (not the extra last step of a stopped run).
         let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
@@ -382,7 +390,7 @@ impl Outputs {
                 .with_context(|| format!("cannot create {}", dir.join("frames").display()))?;
         }
         Ok(Outputs {
-            total_mass: bounce_scenario::analysis::masses(world).iter().sum(),
+            total_mass: bounce_scenario::analysis::total_mass(world),
             schedule,
             dir: dir.to_path_buf(),
             dt: session.dt,

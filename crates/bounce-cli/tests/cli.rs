@@ -1,46 +1,11 @@
 //! The `bounce` command, driven as a user would.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
-use assert_cmd::cargo::cargo_bin;
-
-fn bounce() -> Command {
-    Command::new(cargo_bin("bounce"))
-}
-
-/// A scratch directory with a scenario file in it.
-struct Scratch {
-    dir: tempfile::TempDir,
-}
-
-impl Scratch {
-    fn new() -> Self {
-        Scratch {
-            dir: tempfile::tempdir().unwrap(),
-        }
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.dir.path().join(name)
-    }
-
-    fn scenario(&self, name: &str, text: &str) -> PathBuf {
-        let path = self.path(name);
-        std::fs::write(&path, text).unwrap();
-        path
-    }
-}
-
-/// Runs and returns (exit code, stdout, stderr).
-fn output(cmd: &mut Command) -> (i32, String, String) {
-    let out = cmd.output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{Scratch, bounce, output};
 
 /// Three resting discs at known places, and a small gas for moving data.
 const SMALL: &str = r##"

@@ -15,6 +15,16 @@ pub fn masses(world: &World) -> Vec<f64> {
         .collect()
 }
 
+/// The total mass, summed in id order: the same bits whatever the storage order (a resumed
+/// run's storage order differs from the original's, its temperatures must not).
+pub fn total_mass(world: &World) -> f64 {
+    let p = world.particles();
+    let m = masses(world);
+    let mut by_id: Vec<(u32, f64)> = p.ids().iter().map(|id| id.0).zip(m).collect();
+    by_id.sort_unstable_by_key(|&(id, _)| id);
+    by_id.iter().map(|&(_, m)| m).sum()
+}
+
 /// The potential energy in the uniform gravity field, `−Σ m g·x` (zero at the origin), with
 /// the world's mass model. Zero without gravity.
 pub fn potential_energy(world: &World) -> f64 {

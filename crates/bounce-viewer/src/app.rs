@@ -408,9 +408,7 @@ impl ViewerApp {
     }
 
     fn speed_histogram(&self) -> (Vec<Bar>, PlotPoints<'static>) {
-        let total_mass: f64 = bounce_scenario::analysis::masses(&self.session.world)
-            .iter()
-            .sum();
+        let total_mass = bounce_scenario::analysis::total_mass(&self.session.world);
         let h = bounce_scenario::analysis::speed_histogram(&self.session.world, 30, total_mass);
         let bars = h
             .density

@@ -88,6 +88,14 @@ pub enum ParticleError {
     /// No particle has this id.
     #[error("no particle has id {}", .0.0)]
     UnknownId(ParticleId),
+    /// The disc's kinetic energy `½ m v²` overflows `f64`.
+    #[error("velocity {velocity:?} gives a kinetic energy beyond f64 (mass {mass})")]
+    EnergyOverflow {
+        /// The refused velocity.
+        velocity: [f64; 2],
+        /// The disc's mass under the mass model.
+        mass: f64,
+    },
     /// The world already holds `u32::MAX` particles.
     #[error("too many particles: ids are 32-bit")]
     TooMany,
@@ -98,7 +106,20 @@ impl Particle {
     /// the boundary admits.
     pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
         self.validate_values()?;
-        Geometry::new(config).admit(self.position, self.radius, &Law::new(config))
+        let law = Law::new(config);
+        let mass = law.mass(
+            self.radius,
+            self.mass
+                .unwrap_or(std::f64::consts::PI * self.radius * self.radius),
+        );
+        let [vx, vy] = self.velocity;
+        if !(0.5 * mass * (vx * vx + vy * vy)).is_finite() {
+            return Err(ParticleError::EnergyOverflow {
+                velocity: self.velocity,
+                mass,
+            });
+        }
+        Geometry::new(config).admit(self.position, self.radius, &law)
     }
 
     /// Checks that every value is finite and radius and mass are positive.

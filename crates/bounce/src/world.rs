@@ -62,8 +62,8 @@ pub enum StepError {
     /// step, gravity or speeds are too large for `f64`. The world's state is no longer
     /// usable; reload a checkpoint.
     #[error(
-        "step {step}: particle {id} has a non-finite position or velocity (dt, gravity or \
-         speeds too large for f64)"
+        "step {step}: particle {id} has a non-finite position, velocity or kinetic energy (dt, \
+         gravity or speeds too large for f64)"
     )]
     NonFinite {
         /// The step that overflowed.
@@ -420,15 +420,16 @@ impl World {
         hash
     }
 
-    /// The lowest id with a non-finite position or velocity, or `?` when every value is
-    /// finite (then a sum overflowed).
+    /// The lowest id with a non-finite position, velocity or kinetic energy, or `?` when
+    /// there is none (then only a sum overflowed).
     fn first_non_finite(&self) -> String {
         let p = &self.particles;
+        let law = Law::new(&self.config);
         (0..p.len())
             .filter(|&i| {
-                ![p.x[i], p.y[i], p.vx[i], p.vy[i]]
-                    .iter()
-                    .all(|v| v.is_finite())
+                let m = law.mass(p.radius[i], p.mass[i]);
+                let energy = 0.5 * m * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i]);
+                ![p.x[i], p.y[i], energy].iter().all(|v| v.is_finite())
             })
             .map(|i| p.id[i].0)
             .min()
