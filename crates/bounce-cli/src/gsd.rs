@@ -7,8 +7,16 @@
 //! point at them. The file is written under a temporary name and renamed when complete.
 //!
 //! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
-//! `particles/{N,position,velocity,diameter,mass,typeid,types}` with particles in id order,
-//! positions relative to the box centre (HOOMD's convention), and `log/kinetic_energy`.
+//! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
+//! order, and `log/kinetic_energy`.
+//!
+//! - Positions are relative to the box centre (HOOMD's convention). In an open world the
+//!   centre is the origin, fixed for the whole file, so positions are absolute; the box is
+//!   the smallest one centred on the origin that holds every disc of the frame.
+//! - `particles/image` counts the periodic box crossings: the unwrapped position is
+//!   `position + image × box` (zero outside a periodic box).
+//! - `particles/types` are the scenario's types (a table's `type`, else its colour, else
+//!   `A`); `typeid` gives each disc's.
 
 use std::io::{Seek, SeekFrom, Write};
 use std::path::Path;
@@ -33,6 +41,7 @@ enum Type {
     U32 = 3,
     U64 = 4,
     I8 = 5,
+    I32 = 7,
     F32 = 9,
     F64 = 10,
 }
@@ -44,6 +53,7 @@ impl Type {
             3 => Type::U32,
             4 => Type::U64,
             5 => Type::I8,
+            7 => Type::I32,
             9 => Type::F32,
             10 => Type::F64,
             _ => return None,
@@ -54,7 +64,7 @@ impl Type {
     fn size(self) -> u64 {
         match self {
             Type::U8 | Type::I8 => 1,
-            Type::U32 | Type::F32 => 4,
+            Type::U32 | Type::I32 | Type::F32 => 4,
             Type::U64 | Type::F64 => 8,
         }
     }
@@ -138,28 +148,48 @@ pub struct GsdWriter {
     names: Vec<String>,
     index: Vec<IndexEntry>,
     frame: u64,
+    /// `particles/types` as NUL-padded rows, and its row width.
+    types: (Vec<u8>, u32),
+    /// Each particle's type, by id (0 beyond).
+    typeid: Vec<u32>,
 }
 
 impl GsdWriter {
-    /// Starts `path`.
-    pub fn create(path: &Path) -> Result<Self> {
+    /// Starts `path` for particles of `types` (names), `typeid` giving each id's.
+    pub fn create(path: &Path, types: &[String], typeid: &[u32]) -> Result<Self> {
         let mut file = AtomicFile::create(path)?;
         // Placeholder header, rewritten by `finish`.
         file.writer().write_all(&[0u8; HEADER_SIZE as usize])?;
+        let width = types.iter().map(|t| t.len()).max().unwrap_or(1) + 1;
+        let mut rows = Vec::with_capacity(width * types.len().max(1));
+        for t in types {
+            rows.extend_from_slice(t.as_bytes());
+            rows.resize(rows.len() + width - t.len(), 0);
+        }
+        if types.is_empty() {
+            rows.extend_from_slice(b"A\0");
+        }
         Ok(GsdWriter {
             file,
             offset: HEADER_SIZE,
             names: Vec::new(),
             index: Vec::new(),
             frame: 0,
+            types: (rows, width as u32),
+            typeid: typeid.to_vec(),
         })
     }
 
     /// Continues the trajectory at `path`: keeps the frames whose step passes `keep` (a
     /// leading run of them), chunk for chunk, so the file continues as if never interrupted.
     /// Without an earlier file, starts a new one.
-    pub fn resume(path: &Path, keep: impl Fn(u64) -> bool) -> Result<Self> {
-        let mut writer = GsdWriter::create(path)?;
+    pub fn resume(
+        path: &Path,
+        types: &[String],
+        typeid: &[u32],
+        keep: impl Fn(u64) -> bool,
+    ) -> Result<Self> {
+        let mut writer = GsdWriter::create(path, types, typeid)?;
         let Ok(mut old) = std::fs::File::open(path) else {
             return Ok(writer);
         };
@@ -269,15 +299,22 @@ impl GsdWriter {
                 .map(|(_, p)| model.mass(p.radius, p.mass.unwrap_or(0.0))),
         );
         self.chunk("particles/mass", Type::F32, n as u64, 1, &mass)?;
-        self.chunk(
-            "particles/typeid",
-            Type::U32,
-            n as u64,
-            1,
-            &vec![0u8; 4 * n],
-        )?;
-        // One type name, "A", as a NUL-padded int8 row.
-        self.chunk("particles/types", Type::I8, 1, 2, b"A\0")?;
+        let image = images_by_id(world);
+        self.chunk("particles/image", Type::I32, n as u64, 3, &image)?;
+        let typeid: Vec<u8> = by_id
+            .iter()
+            .flat_map(|(id, _)| {
+                self.typeid
+                    .get(id.0 as usize)
+                    .copied()
+                    .unwrap_or(0)
+                    .to_le_bytes()
+            })
+            .collect();
+        self.chunk("particles/typeid", Type::U32, n as u64, 1, &typeid)?;
+        let (rows, width) = self.types.clone();
+        let count = rows.len() as u64 / width as u64;
+        self.chunk("particles/types", Type::I8, count, width, &rows)?;
         let energy = world.stats().kinetic_energy;
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
         self.frame += 1;
@@ -343,21 +380,37 @@ impl GsdWriter {
     }
 }
 
-/// Centre and size of the box HOOMD should see: the walls or periodic box, or for an open
-/// world the particles' extent with a margin.
+/// Centre and size of the box HOOMD should see: the walls or periodic box; for an open
+/// world, centred on the origin (fixed, so positions are absolute) and just holding every
+/// disc.
 fn box_of(world: &World) -> ([f64; 2], [f64; 2]) {
-    let (min, max) = match world.config().boundary {
-        Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => (min, max),
+    match world.config().boundary {
+        Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => (
+            [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+            [max[0] - min[0], max[1] - min[1]],
+        ),
         Boundary::Open => {
             let p = world.particles();
             let r = p.radius().iter().copied().fold(0.0, f64::max);
-            let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - r;
-            let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + r;
-            ([lo(p.x()), lo(p.y())], [hi(p.x()), hi(p.y())])
+            let reach = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs())) + r;
+            ([0.0, 0.0], [2.0 * reach(p.x()), 2.0 * reach(p.y())])
         }
-    };
-    (
-        [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
-        [max[0] - min[0], max[1] - min[1]],
-    )
+    }
+}
+
+/// The image counts as GSD's `int32[N][3]`, in id order.
+fn images_by_id(world: &World) -> Vec<u8> {
+    let p = world.particles();
+    let mut by_id: Vec<(u32, [i32; 2])> = p
+        .ids()
+        .iter()
+        .zip(p.image())
+        .map(|(id, &image)| (id.0, image))
+        .collect();
+    by_id.sort_unstable_by_key(|&(id, _)| id);
+    by_id
+        .iter()
+        .flat_map(|&(_, [ix, iy])| [ix, iy, 0])
+        .flat_map(i32::to_le_bytes)
+        .collect()
 }

@@ -319,7 +319,11 @@ impl Outputs {
         let world = &session.world;
         let total_mass: f64 = bounce_scenario::analysis::total_mass(world);
         let gsd = if schedule.output.gsd_every > 0 {
-            Some(GsdWriter::create(&dir.join("trajectory.gsd"))?)
+            Some(GsdWriter::create(
+                &dir.join("trajectory.gsd"),
+                &session.types,
+                &session.typeid,
+            )?)
         } else {
             None
         };
@@ -350,6 +354,8 @@ impl Outputs {
         let gsd = if spec.gsd_every > 0 {
             Some(GsdWriter::resume(
                 &dir.join("trajectory.gsd"),
+                &session.types,
+                &session.typeid,
                 keep(spec.gsd_every),
             )?)
         } else {

@@ -552,3 +552,91 @@ fn the_summary_splits_physics_from_output_time_and_counts_potential_energy() {
     // collisions (e = 0.7), never gains a hundredfold as kinetic energy alone does.
     assert!((-1.0..=0.01).contains(&change), "{stdout}");
 }
+
+/// Read back by HOOMD's own `gsd` package (`scripts/test` installs it in a virtual
+/// environment named by `BOUNCE_PYTHON`): types from the scenario, image flags that unwrap a
+/// periodic trajectory, and absolute positions in an open world.
+#[cfg(feature = "system-tests")]
+#[test]
+fn the_gsd_trajectory_keeps_types_images_and_a_fixed_origin() {
+    let s = Scratch::new();
+    let python = std::env::var("BOUNCE_PYTHON").unwrap_or_else(|_| "python3".into());
+    // The shipped mixing scenario: two species by colour.
+    let mixing = bounce_scenario::template("mixing").unwrap().replace(
+        "[output]",
+        "[output]\ngsd_every = 50\nframe_every = 0\ngif = false\nplots = false\n[unused]",
+    );
+    let mixing = mixing.replace("\n[unused]", "");
+    let mixing_path = s.scenario("mixing.toml", &strip_output_keys(&mixing));
+    assert_eq!(run(&s, &mixing_path, "mixing", &["--steps", "100"]).0, 0);
+    // A fast periodic gas, a lone disc in the open.
+    let periodic = s.scenario(
+        "periodic.toml",
+        "[world]\nboundary = \"periodic\"\nmin = [0.0, 0.0]\nmax = [20.0, 20.0]\n\
+         [time]\ndt = 0.05\nsteps = 200\n[[gas]]\ncount = 50\nradius = 0.3\nspeed = 6.0\n\
+         type = \"fast\"\n[output]\ngsd_every = 1\nplots = false\n",
+    );
+    assert_eq!(run(&s, &periodic, "periodic", &[]).0, 0);
+    let open = s.scenario(
+        "open.toml",
+        "[world]\nboundary = \"open\"\n[time]\ndt = 0.1\nsteps = 20\n\
+         [[disc]]\nposition = [100.0, 50.0]\nvelocity = [1.0, 0.0]\nradius = 0.5\n\
+         [[disc]]\nposition = [-3.0, 0.0]\nradius = 0.5\n[output]\ngsd_every = 10\nplots = false\n",
+    );
+    assert_eq!(run(&s, &open, "open", &[]).0, 0);
+    let script = r#"
+import sys, numpy as np, gsd.hoomd
+mixing, periodic, open_ = sys.argv[1:4]
+with gsd.hoomd.open(mixing, "r") as t:
+    f = t[-1]
+    types = list(f.particles.types)
+    assert types == ["red", "blue"], types
+    counts = np.bincount(f.particles.typeid)
+    assert len(counts) == 2 and counts.min() > 0, counts
+with gsd.hoomd.open(periodic, "r") as t:
+    L = t[0].configuration.box[0]
+    assert list(t[0].particles.types) == ["fast"]
+    first = t[0].particles.position + t[0].particles.image * L
+    crossed = 0
+    prev = first
+    for f in t[1:]:
+        unwrapped = f.particles.position + f.particles.image * L
+        # Per frame (one step of 0.05 at speeds near 6) no disc moves a box width.
+        assert np.abs(unwrapped - prev).max() < 2.0, np.abs(unwrapped - prev).max()
+        prev = unwrapped
+        crossed = max(crossed, np.abs(f.particles.image).max())
+    assert crossed >= 1, crossed
+with gsd.hoomd.open(open_, "r") as t:
+    for f in t:
+        # Absolute positions: the drifting disc's x is 100 + time, whatever the box.
+        x = f.particles.position[0][0]
+        assert abs(x - (100 + 0.1 * f.configuration.step)) < 1e-3, x
+        assert abs(f.particles.position[1][0] + 3) < 1e-5
+print("ok")
+"#;
+    let (code, stdout, stderr) = output(
+        Command::new(python)
+            .arg("-c")
+            .arg(script)
+            .arg(s.path("mixing/trajectory.gsd"))
+            .arg(s.path("periodic/trajectory.gsd"))
+            .arg(s.path("open/trajectory.gsd")),
+    );
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stdout.starts_with("ok"));
+}
+
+/// A scenario text with `gsd_every`, `frame_every`, `gif` and `plots` given once (the first
+/// time each appears wins).
+#[cfg(feature = "system-tests")]
+fn strip_output_keys(text: &str) -> String {
+    let mut seen = std::collections::HashSet::new();
+    text.lines()
+        .filter(|l| {
+            let key = l.split('=').next().unwrap_or("").trim();
+            !["gsd_every", "frame_every", "gif", "plots"].contains(&key)
+                || seen.insert(key.to_string())
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}

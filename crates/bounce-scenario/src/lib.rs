@@ -191,6 +191,10 @@ pub struct GasSpec {
     /// Colour of these discs (`#rrggbb` or a name).
     #[serde(default)]
     pub color: Option<String>,
+    /// The particle type these discs get in the GSD trajectory (`particles/types`);
+    /// default: the colour's name, or `A` without one.
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
 }
 
 /// `[[lattice]]`: a grid of equal discs.
@@ -211,6 +215,10 @@ pub struct LatticeSpec {
     /// Colour.
     #[serde(default)]
     pub color: Option<String>,
+    /// The particle type these discs get in the GSD trajectory (`particles/types`);
+    /// default: the colour's name, or `A` without one.
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
 }
 
 /// `[[block]]`: a rectangle filled with touching-free discs moving together.
@@ -232,6 +240,10 @@ pub struct BlockSpec {
     /// Colour.
     #[serde(default)]
     pub color: Option<String>,
+    /// The particle type these discs get in the GSD trajectory (`particles/types`);
+    /// default: the colour's name, or `A` without one.
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
 }
 
 /// `[[disc]]`: one disc.
@@ -251,6 +263,10 @@ pub struct DiscSpec {
     /// Colour.
     #[serde(default)]
     pub color: Option<String>,
+    /// The particle type these discs get in the GSD trajectory (`particles/types`);
+    /// default: the colour's name, or `A` without one.
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
 }
 
 /// How frames colour the discs.
@@ -425,6 +441,10 @@ pub struct Built {
     pub world: World,
     /// Colour of each particle, indexed by id; `None` where the scenario sets none.
     pub colours: Vec<Option<Rgb>>,
+    /// The particle types, in order of first appearance.
+    pub types: Vec<String>,
+    /// Each particle's index into `types`, by id.
+    pub typeid: Vec<u32>,
 }
 
 /// Reads and validates a scenario file.
@@ -756,8 +776,10 @@ impl Scenario {
         let mut placed: Vec<Particle> = Vec::new();
         // Which table made which ids: (first id, what, line).
         let mut tables: Vec<(usize, String, usize)> = Vec::new();
+        let mut types: Vec<String> = Vec::new();
+        let mut typeid: Vec<u32> = Vec::new();
         let mut add = |discs: Vec<Particle>,
-                       colour: &Option<String>,
+                       (colour, kind): (&Option<String>, &Option<String>),
                        line: usize,
                        what: String,
                        placed: &mut Vec<Particle>| {
@@ -765,6 +787,18 @@ impl Scenario {
                 .as_deref()
                 .map(|c| parse_colour(c).expect("checked in problems"));
             let n = discs.len();
+            let name = kind
+                .clone()
+                .or_else(|| colour.clone())
+                .unwrap_or_else(|| "A".into());
+            let t = match types.iter().position(|t| *t == name) {
+                Some(t) => t,
+                None => {
+                    types.push(name);
+                    types.len() - 1
+                }
+            };
+            typeid.extend(std::iter::repeat_n(t as u32, n));
             tables.push((placed.len(), what.clone(), line));
             placed.extend_from_slice(&discs);
             world.add_particles(discs).map_err(|(i, e)| {
@@ -826,7 +860,7 @@ impl Scenario {
                         .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
                     add(
                         discs,
-                        &spec.color,
+                        (&spec.color, &spec.kind),
                         line,
                         format!("gas #{}", k + 1),
                         &mut placed,
@@ -843,7 +877,7 @@ impl Scenario {
                     });
                     add(
                         discs,
-                        &spec.color,
+                        (&spec.color, &spec.kind),
                         line,
                         format!("lattice #{}", k + 1),
                         &mut placed,
@@ -862,7 +896,7 @@ impl Scenario {
                     });
                     add(
                         discs,
-                        &spec.color,
+                        (&spec.color, &spec.kind),
                         line,
                         format!("block #{}", k + 1),
                         &mut placed,
@@ -878,7 +912,7 @@ impl Scenario {
                     };
                     add(
                         vec![disc],
-                        &spec.color,
+                        (&spec.color, &spec.kind),
                         line,
                         format!("disc #{}", k + 1),
                         &mut placed,
@@ -893,7 +927,12 @@ impl Scenario {
                 problems: overlaps,
             });
         }
-        Ok(Built { world, colours })
+        Ok(Built {
+            world,
+            colours,
+            types,
+            typeid,
+        })
     }
 }
 

@@ -28,6 +28,10 @@ pub struct Session {
     pub world: World,
     /// Colour of each particle by id; `None` where the scenario sets none.
     pub colours: Vec<Option<Rgb>>,
+    /// The particle types (`type`, else the colour, else `A`), in order of first appearance.
+    pub types: Vec<String>,
+    /// Each particle's index into `types`, by id.
+    pub typeid: Vec<u32>,
     /// The time step.
     pub dt: f64,
     /// The step the scenario runs to (`time.steps`).
@@ -76,6 +80,8 @@ impl Session {
             output: scenario.output.clone(),
             world: built.world,
             colours: built.colours,
+            types: built.types,
+            typeid: built.typeid,
             scenario,
         })
     }

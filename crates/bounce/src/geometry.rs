@@ -274,21 +274,28 @@ pub(crate) fn reflect(
     (0.0, 0.0)
 }
 
-/// One axis of the periodic box: back into `[lo, lo + size)`.
+/// One axis of the periodic box: back into `[lo, lo + size)`. Returns the box widths the
+/// disc was moved back by (its change of image: +1 when it left through the high side).
 #[inline]
-pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) {
+pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) -> i32 {
+    let mut crossed = 0;
     if *x < lo {
         *x += size;
+        crossed = -1;
     } else if *x >= lo + size {
         *x -= size;
+        crossed = 1;
     }
     // A disc faster than a box width per substep: reduce fully.
     if !(*x >= lo && *x < lo + size) {
+        let widths = ((*x - lo) / size).floor();
         *x = lo + (*x - lo).rem_euclid(size);
         if *x >= lo + size {
             *x = lo;
         }
+        crossed += widths.clamp(i32::MIN as f64, i32::MAX as f64) as i32;
     }
+    crossed
 }
 
 #[cfg(test)]
@@ -315,15 +322,16 @@ mod tests {
 
     #[test]
     fn wrapping_lands_in_the_half_open_box() {
-        for (x0, want) in [
-            (-0.5, 9.5),
-            (10.0, 0.0),
-            (10.5, 0.5),
-            (35.0, 5.0),
-            (-25.0, 5.0),
+        for (x0, want, crossed) in [
+            (-0.5, 9.5, -1),
+            (10.0, 0.0, 1),
+            (10.5, 0.5, 1),
+            (35.0, 5.0, 3),
+            (-25.0, 5.0, -3),
+            (4.0, 4.0, 0),
         ] {
             let mut x = x0;
-            wrap(&mut x, 0.0, 10.0);
+            assert_eq!(wrap(&mut x, 0.0, 10.0), crossed, "from {x0}");
             assert_eq!(x, want, "from {x0}");
         }
         let mut tiny = -1e-17;

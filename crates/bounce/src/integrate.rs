@@ -36,6 +36,7 @@ struct Chunk<'a> {
     y: &'a mut [f64],
     vx: &'a mut [f64],
     vy: &'a mut [f64],
+    image: &'a mut [[i32; 2]],
 }
 
 /// Advances every disc by `ctx.h`, applies the boundary, and measures displacements from
@@ -55,13 +56,15 @@ pub(crate) fn integrate(
             .zip(p.y.chunks_mut(CHUNK))
             .zip(p.vx.chunks_mut(CHUNK))
             .zip(p.vy.chunks_mut(CHUNK))
+            .zip(p.image.chunks_mut(CHUNK))
             .enumerate()
-            .map(|(c, (((x, y), vx), vy))| Chunk {
+            .map(|(c, ((((x, y), vx), vy), image))| Chunk {
                 base: c * CHUNK,
                 x,
                 y,
                 vx,
                 vy,
+                image,
             })
             .collect();
     let pass = Pass {
@@ -73,16 +76,18 @@ pub(crate) fn integrate(
     let chunks = &mut chunks[..];
     let exec = ctx.exec;
     let partial = match ctx.geometry {
-        Geometry::Open => pass.run(exec, chunks, |_, _, _| {}),
-        Geometry::Periodic { min, size, .. } => pass.run(exec, chunks, |_, [x, y, _, _], _| {
-            wrap(x, min[0], size[0]);
-            wrap(y, min[1], size[1]);
-        }),
+        Geometry::Open => pass.run(exec, chunks, |_, _, _, _| {}),
+        Geometry::Periodic { min, size, .. } => {
+            pass.run(exec, chunks, |_, [x, y, _, _], image, _| {
+                image[0] += wrap(x, min[0], size[0]);
+                image[1] += wrap(y, min[1], size[1]);
+            })
+        }
         Geometry::Walls {
             min,
             max,
             restitution: e,
-        } => pass.run(exec, chunks, |i, [x, y, vx, vy], impulse| {
+        } => pass.run(exec, chunks, |i, [x, y, vx, vy], _, impulse| {
             // Radii are at most `max_radius`, so a disc farther from every wall touches
             // none (rounding is monotone, so this never skips a disc `reflect` would move).
             let near = *x - max_radius < min[0]
@@ -137,7 +142,7 @@ impl Pass<'_> {
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
-        boundary: impl Fn(usize, &mut [f64; 4], &mut WallImpulse) + Sync,
+        boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse) + Sync,
     ) -> Vec<(WallImpulse, f64, f64, bool)> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         match self.reference {
@@ -154,12 +159,13 @@ impl Pass<'_> {
     }
 
     /// One chunk: the wall impulse, the largest squared displacement and the largest squared
-    /// speed, and whether every value is finite. `boundary` gets the disc's index and `[x, y, vx, vy]`.
+    /// speed, and whether every value is finite. `boundary` gets the disc's index,
+    /// `[x, y, vx, vy]` and its image counts.
     #[inline(always)]
     fn chunk(
         &self,
         chunk: &mut Chunk,
-        boundary: &impl Fn(usize, &mut [f64; 4], &mut WallImpulse),
+        boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse),
         displacement2: impl Fn(usize, f64, f64) -> f64,
     ) -> (WallImpulse, f64, f64, bool) {
         let [gx, gy] = self.gravity;
@@ -168,16 +174,24 @@ impl Pass<'_> {
         let mut max_displacement2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
         let mut finite = true;
-        let Chunk { base, x, y, vx, vy } = chunk;
+        let Chunk {
+            base,
+            x,
+            y,
+            vx,
+            vy,
+            image,
+        } = chunk;
         let discs = x
             .iter_mut()
             .zip(y.iter_mut())
             .zip(vx.iter_mut())
-            .zip(vy.iter_mut());
-        for (k, (((x, y), vx), vy)) in discs.enumerate() {
+            .zip(vy.iter_mut())
+            .zip(image.iter_mut());
+        for (k, ((((x, y), vx), vy), image)) in discs.enumerate() {
             let (vxi, vyi) = (*vx + gx * h, *vy + gy * h);
             let mut state = [*x + vxi * h, *y + vyi * h, vxi, vyi];
-            boundary(*base + k, &mut state, &mut impulse);
+            boundary(*base + k, &mut state, image, &mut impulse);
             let [xi, yi, vxi, vyi] = state;
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);

@@ -154,6 +154,8 @@ pub struct Particles {
     pub(crate) radius: Vec<f64>,
     /// The per-particle mass (π r² when not given); used by `MassModel::PerParticle`.
     pub(crate) mass: Vec<f64>,
+    /// Periodic image counts: how many box widths each disc has been wrapped by.
+    pub(crate) image: Vec<[i32; 2]>,
 }
 
 impl Particles {
@@ -202,6 +204,12 @@ impl Particles {
         &self.mass
     }
 
+    /// Periodic image counts `[ix, iy]`: the unwrapped position (the path a disc really
+    /// travelled, for diffusion) is `position + image × box size`. Zero outside a periodic box.
+    pub fn image(&self) -> &[[i32; 2]] {
+        &self.image
+    }
+
     /// The particle at storage index `i`.
     pub fn get(&self, i: usize) -> Option<Particle> {
         (i < self.len()).then(|| Particle {
@@ -221,6 +229,7 @@ impl Particles {
         self.radius.push(p.radius);
         self.mass
             .push(p.mass.unwrap_or(std::f64::consts::PI * p.radius * p.radius));
+        self.image.push([0, 0]);
     }
 
     pub(crate) fn truncate(&mut self, len: usize) {
@@ -231,13 +240,21 @@ impl Particles {
         self.vy.truncate(len);
         self.radius.truncate(len);
         self.mass.truncate(len);
+        self.image.truncate(len);
     }
 
     /// Reorders every array so that new index `k` holds old index `order[k]`. Each array is
     /// gathered into the scratch array in parallel chunks and swapped in, so the old array
-    /// becomes the scratch for the next one; the ids are gathered into the scratch viewed as
-    /// `u32`s and copied back. Extra memory: one `f64` array.
-    pub(crate) fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch, exec: &Executor) {
+    /// becomes the scratch for the next one; the ids (and, in a periodic box, the image
+    /// counts, which stay zero elsewhere) are gathered into the scratch viewed as their type
+    /// and copied back. Extra memory: one `f64` array.
+    pub(crate) fn permute(
+        &mut self,
+        order: &[u32],
+        scratch: &mut PermuteScratch,
+        exec: &Executor,
+        periodic: bool,
+    ) {
         let n = self.len();
         debug_assert_eq!(order.len(), n);
         for v in [
@@ -256,6 +273,11 @@ impl Particles {
         gather(&self.id, order, out, exec, |id| id.0);
         for (id, &v) in self.id.iter_mut().zip(out.iter()) {
             *id = ParticleId(v);
+        }
+        if periodic {
+            let out: &mut [[i32; 2]] = bytemuck::cast_slice_mut(scratch.f64s(n));
+            gather(&self.image, order, out, exec, |&v| v);
+            self.image.copy_from_slice(out);
         }
     }
 }

@@ -476,6 +476,7 @@ impl TryFrom<WorldState> for World {
             p.vy.len(),
             p.radius.len(),
             p.mass.len(),
+            p.image.len(),
         ];
         if lengths.iter().any(|&l| l != n) {
             return Err(WorldError::Inconsistent(format!(

@@ -159,7 +159,12 @@ impl Broadphase {
     /// disc moves per substep.
     pub(crate) fn rebuild(&mut self, p: &mut Particles, ctx: &StepContext, stride: f64) {
         let skin = self.bin([&p.x, &p.y, &p.radius], ctx, Skin::Stride(stride));
-        p.permute(&self.order, &mut self.scratch, ctx.exec);
+        p.permute(
+            &self.order,
+            &mut self.scratch,
+            ctx.exec,
+            ctx.geometry.is_periodic(),
+        );
         self.list([&p.x, &p.y, &p.radius], ctx, skin);
         self.reference.record(&p.x, &p.y, skin, ctx.exec);
         self.listed = true;
