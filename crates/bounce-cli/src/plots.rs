@@ -113,7 +113,7 @@ fn axis_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v), hi.max(v))
         });
-    if !(lo <= hi) {
+    if lo > hi {
         return (0.0, 1.0);
     }
     // Halved first so that the span of values near ±f64::MAX stays finite.
@@ -167,7 +167,7 @@ fn series<DB: DrawingBackend>(
     let (lo, hi) = axis_range(
         lines
             .iter()
-            .flat_map(|(_, value, _)| history.iter().map(move |s| value(s))),
+            .flat_map(|(_, value, _)| history.iter().map(value)),
     );
     let mut chart = ChartBuilder::on(area)
         .caption(format!("{label} over time"), ("sans-serif", 18))

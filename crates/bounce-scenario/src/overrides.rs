@@ -31,14 +31,14 @@ pub fn apply(text: &str, sets: &[String], seed: Option<u64>) -> Result<String, S
         }
         set_path(doc.as_item_mut(), &path, value).map_err(|e| format!("--set {set}: {e}"))?;
     }
-    if let Some(seed) = seed {
-        if let Some(gases) = doc.get_mut("gas").and_then(Item::as_array_of_tables_mut) {
-            for (k, gas) in gases.iter_mut().enumerate() {
-                let value = seed.wrapping_add(k as u64);
-                let value = i64::try_from(value)
-                    .map_err(|_| format!("--seed {seed}: must be below 2^63"))?;
-                gas["seed"] = toml_edit::value(value);
-            }
+    if let Some(seed) = seed
+        && let Some(gases) = doc.get_mut("gas").and_then(Item::as_array_of_tables_mut)
+    {
+        for (k, gas) in gases.iter_mut().enumerate() {
+            let value = seed.wrapping_add(k as u64);
+            let value =
+                i64::try_from(value).map_err(|_| format!("--seed {seed}: must be below 2^63"))?;
+            gas["seed"] = toml_edit::value(value);
         }
     }
     Ok(doc.to_string())

@@ -239,5 +239,8 @@ fn mutated_checkpoints_never_panic_or_allocate_wildly() {
         });
     }
     eprintln!("checkpoint fuzz: {loaded} loaded and stepped, {refused} refused");
-    assert!(refused > 1000 && loaded > 10, "{loaded} loaded, {refused} refused");
+    assert!(
+        refused > 1000 && loaded > 10,
+        "{loaded} loaded, {refused} refused"
+    );
 }

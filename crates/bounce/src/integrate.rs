@@ -25,8 +25,6 @@ pub(crate) struct Moved {
     pub max_displacement2: f64,
     /// The longest distance a disc moved in this substep.
     pub max_stride: f64,
-    /// Whether every position and velocity is finite after the move.
-    pub finite: bool,
 }
 
 /// One chunk of the arrays a pass writes, and the index of its first disc.
@@ -115,12 +113,10 @@ pub(crate) fn integrate(
         ..Moved::default()
     };
     let mut max_speed2 = 0.0f64;
-    moved.finite = true;
-    for (impulse, d2, v2, finite) in &partial {
+    for (impulse, d2, v2) in &partial {
         moved.impulse.add(impulse);
         moved.max_displacement2 = moved.max_displacement2.max(*d2);
         max_speed2 = max_speed2.max(*v2);
-        moved.finite &= finite;
     }
     moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
@@ -136,14 +132,13 @@ struct Pass<'r> {
 
 impl Pass<'_> {
     /// The pass over the chunks, with the boundary and the reference check chosen once;
-    /// per chunk the wall impulse, the largest squared displacement and speed, and whether
-    /// every value is finite.
+    /// per chunk the wall impulse, the largest squared displacement and speed.
     fn run(
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
         boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse) + Sync,
-    ) -> Vec<(WallImpulse, f64, f64, bool)> {
+    ) -> Vec<(WallImpulse, f64, f64)> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         match self.reference {
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
@@ -159,7 +154,7 @@ impl Pass<'_> {
     }
 
     /// One chunk: the wall impulse, the largest squared displacement and the largest squared
-    /// speed, and whether every value is finite. `boundary` gets the disc's index,
+    /// speed. `boundary` gets the disc's index,
     /// `[x, y, vx, vy]` and its image counts.
     #[inline(always)]
     fn chunk(
@@ -167,13 +162,12 @@ impl Pass<'_> {
         chunk: &mut Chunk,
         boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse),
         displacement2: impl Fn(usize, f64, f64) -> f64,
-    ) -> (WallImpulse, f64, f64, bool) {
+    ) -> (WallImpulse, f64, f64) {
         let [gx, gy] = self.gravity;
         let h = self.h;
         let mut impulse = WallImpulse::default();
         let mut max_displacement2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
-        let mut finite = true;
         let Chunk {
             base,
             x,
@@ -196,8 +190,7 @@ impl Pass<'_> {
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
             max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
-            finite &= xi.is_finite() & yi.is_finite() & vxi.is_finite() & vyi.is_finite();
         }
-        (impulse, max_displacement2, max_speed2, finite)
+        (impulse, max_displacement2, max_speed2)
     }
 }

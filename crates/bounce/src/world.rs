@@ -211,11 +211,6 @@ impl World {
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
             profile.integrate += clock.lap();
-            if !moved.finite {
-                // Grids cannot bin an infinite position: stop the step here.
-                finite = false;
-                break;
-            }
 
             let rebuilt = bp.update(
                 &mut self.particles,
@@ -226,6 +221,11 @@ impl World {
             reordered |= rebuilt;
             profile.rebuilds += rebuilt as usize;
             profile.bin += clock.lap();
+            if rebuilt && bp.overflowed() {
+                // An infinite position (NaN ones come with NaN velocities, caught below).
+                finite = false;
+                break;
+            }
 
             let found = self.contacts.find(bp, &self.particles, &ctx);
             stats.pairs += found.pairs;

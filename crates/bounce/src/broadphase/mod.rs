@@ -84,6 +84,10 @@ pub(crate) struct Broadphase {
     max_radius: f64,
     /// Whether every disc had the same radius at the last rebuild.
     uniform_radius: bool,
+    /// Whether a position was infinite at the last rebuild. A disc whose position overflows
+    /// has moved infinitely far from its reference, so the next update always rebuilds and
+    /// sees it, at no cost to the steps in between.
+    overflowed: bool,
     // Scratch reused between rebuilds (the cell keys live in `scratch`).
     order: Vec<u32>,
     /// Per-disc level; empty when all discs share level 0.
@@ -106,6 +110,11 @@ impl Broadphase {
     /// How many discs the candidates were listed for, if they are listed.
     pub(crate) fn listed_count(&self) -> Option<usize> {
         self.listed.then_some(self.count)
+    }
+
+    /// Whether the last rebuild met an infinite position.
+    pub(crate) fn overflowed(&self) -> bool {
+        self.overflowed
     }
 
     /// A bound on every radius: the largest at the last listing while the list stands (no
@@ -166,7 +175,7 @@ impl Broadphase {
             ctx.geometry.is_periodic(),
         );
         self.list([&p.x, &p.y, &p.radius], ctx, skin);
-        self.reference.record(&p.x, &p.y, skin, ctx.exec);
+        self.overflowed = !self.reference.record(&p.x, &p.y, skin, ctx.exec);
         self.listed = true;
         self.count = p.len();
     }

@@ -76,8 +76,8 @@ impl Reference {
 
     /// Takes `x`, `y` (with candidates listed up to `skin`) as the reference; none when the
     /// coordinates are so large that `f32` cannot place them within the skin (then every
-    /// step rebuilds).
-    pub(super) fn record(&mut self, x: &[f64], y: &[f64], skin: f64, exec: &Executor) {
+    /// step rebuilds). Returns whether every coordinate is finite.
+    pub(super) fn record(&mut self, x: &[f64], y: &[f64], skin: f64, exec: &Executor) -> bool {
         let largest = f64::max(to_f32(x, &mut self.x, exec), to_f32(y, &mut self.y, exec));
         self.skin = skin;
         // Rounding to f32 moves a coordinate by at most half an f32 epsilon of it; the slack
@@ -86,6 +86,7 @@ impl Reference {
         if x.is_empty() || !self.covers(0.0) {
             *self = Reference::default();
         }
+        largest.is_finite()
     }
 
     /// Checks loaded data against the particle count; says what is wrong.
