@@ -101,7 +101,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
 }
 
 /// The most discs one generator places.
-pub const MAX_GAS_COUNT: usize = 1 << 40;
+pub const MAX_GAS_COUNT: u64 = 1 << 40;
 
 /// Places a random gas for `config` whose discs keep clear of `existing` ones (placed by
 /// earlier generators) as of each other. Fails if the spec is invalid or the discs do not fit.
@@ -114,7 +114,7 @@ pub fn gas_among(
     existing: &[Particle],
 ) -> Result<Vec<Particle>, SceneError> {
     let [r_lo, r_hi] = spec.radius;
-    if spec.count > MAX_GAS_COUNT {
+    if spec.count as u64 > MAX_GAS_COUNT {
         return Err(invalid(
             "count",
             spec.count.to_string(),
