@@ -96,7 +96,7 @@ try {
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
   }
-  if (mode !== "fps") {
+  if (mode === "webgl" || mode === "fallback") {
     result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));
   }
 } catch (e) {
