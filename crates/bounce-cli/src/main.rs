@@ -250,6 +250,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 session.dt,
                 session.scenario.world.boundary
             );
+            println!("{}", session.time_step_report());
             Ok(ExitCode::SUCCESS)
         }
     }

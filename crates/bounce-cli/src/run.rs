@@ -85,6 +85,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
         );
     }
 
+    let time_step = session.time_step_report();
     let energy_start = mechanical_energy(&session.world);
     if !energy_start.is_finite() {
         bail!(
@@ -165,6 +166,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
         "time: physics {physics_time:.2} s ({:.1} steps/s), outputs {output_time:.2} s, setup {setup_time:.2} s",
         ran as f64 / physics_time.max(1e-9),
     );
+    println!("{time_step}");
     println!("outputs in {}", args.out.display());
     if reached {
         return Ok(Outcome::Finished);

@@ -1,7 +1,9 @@
 //! `stats.csv`: one row every `stats_every` steps, plus the first and the last step.
 //!
 //! Columns: `step,time,kinetic_energy,momentum_x,momentum_y,collisions,wall_impulse,
-//! max_overlap,temperature,potential_energy`. `collisions`, `wall_impulse` and `max_overlap`
+//! max_overlap,temperature,potential_energy,pressure,substeps`. `pressure` is the step's
+//! collision-virial pressure (empty in an open world, which has no area); `substeps` the
+//! substeps the step took (more than `time.substeps` with `time.max_travel`). `collisions`, `wall_impulse` and `max_overlap`
 //! cover the steps since the previous row (the first row, at the starting step, has zeros
 //! there).
 //!
@@ -18,7 +20,7 @@ use bounce_scenario::atomic::AtomicFile;
 use bounce_scenario::checkpoint::RunState;
 
 /// The header, in order.
-pub const COLUMNS: [&str; 10] = [
+pub const COLUMNS: [&str; 12] = [
     "step",
     "time",
     "kinetic_energy",
@@ -29,6 +31,8 @@ pub const COLUMNS: [&str; 10] = [
     "max_overlap",
     "temperature",
     "potential_energy",
+    "pressure",
+    "substeps",
 ];
 
 /// Running totals since the previous row.
@@ -153,6 +157,8 @@ impl StatsCsv {
             t.max_overlap.to_string(),
             temperature.to_string(),
             bounce_scenario::analysis::potential_energy(world).to_string(),
+            s.pressure.map_or_else(String::new, |p| p.to_string()),
+            s.substeps.to_string(),
         ])?;
         self.totals.reset(scheduled);
         Ok(())

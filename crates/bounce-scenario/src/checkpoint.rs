@@ -151,6 +151,8 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         coefficient_of_restitution,
         gravity,
         substeps,
+        solver_iterations,
+        max_travel,
         boundary,
         mass_model,
         restitution_model,
@@ -175,6 +177,12 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     );
     differ("gravity", f(gravity), f(&b.gravity));
     differ("substeps", f(substeps), f(&b.substeps));
+    differ(
+        "solver_iterations",
+        f(solver_iterations),
+        f(&b.solver_iterations),
+    );
+    differ("max_travel", f(max_travel), f(&b.max_travel));
     differ("boundary", f(boundary), f(&b.boundary));
     differ("mass_model", f(mass_model), f(&b.mass_model));
     differ(

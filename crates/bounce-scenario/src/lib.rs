@@ -25,7 +25,7 @@ mod colour;
 pub mod palette;
 mod session;
 pub use colour::{Rgb, parse_colour, ramp};
-pub use session::{Session, view_bounds};
+pub use session::{Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
@@ -106,6 +106,9 @@ pub struct WorldSpec {
     /// Default `all_detected` (the seed's).
     #[serde(default = "default_velocity_update")]
     pub velocity_update: VelocityUpdate,
+    /// Passes of detection and resolution per substep, default 1 (the seed's single pass).
+    #[serde(default = "one_u32")]
+    pub solver_iterations: u32,
 }
 
 /// The kind of boundary.
@@ -131,6 +134,10 @@ pub struct TimeSpec {
     /// Substeps per step, default 1.
     #[serde(default = "one_u32")]
     pub substeps: u32,
+    /// Adaptive substeps: the farthest a disc may move in one substep, as a fraction of the
+    /// smallest radius (default: none, fixed substeps).
+    #[serde(default)]
+    pub max_travel: Option<f64>,
 }
 
 /// A radius or a range of radii.
@@ -188,6 +195,13 @@ pub struct GasSpec {
     /// Where centres go; default the whole box.
     #[serde(default)]
     pub region: Option<RegionSpec>,
+    /// `random` (default: uniform, no overlaps, up to packings near 0.5) or `lattice` (a
+    /// triangular lattice filling the region: dense liquids up to packing 0.9 once melted).
+    #[serde(default)]
+    pub placement: Placement,
+    /// Remove the net momentum the random velocities leave (then add `drift`); default false.
+    #[serde(default)]
+    pub zero_momentum: bool,
     /// Colour of these discs (`#rrggbb` or a name).
     #[serde(default)]
     pub color: Option<String>,
@@ -195,6 +209,17 @@ pub struct GasSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+}
+
+/// How a `[[gas]]` places its discs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Placement {
+    /// Uniformly at random without overlaps.
+    #[default]
+    Random,
+    /// On a triangular lattice filling the region.
+    Lattice,
 }
 
 /// `[[lattice]]`: a grid of equal discs.
@@ -547,6 +572,8 @@ impl Scenario {
             coefficient_of_restitution: w.coefficient_of_restitution,
             gravity: w.gravity,
             substeps: self.time.substeps,
+            solver_iterations: w.solver_iterations,
+            max_travel: self.time.max_travel,
             boundary: match w.boundary {
                 BoundaryKind::Walls => Boundary::Walls {
                     min,
@@ -856,8 +883,14 @@ impl Scenario {
                         drift: spec.drift,
                         seed: spec.seed,
                     };
-                    let discs = scene::gas_among(&gas, &config, &placed)
-                        .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
+                    let mut discs = match spec.placement {
+                        Placement::Random => scene::gas_among(&gas, &config, &placed),
+                        Placement::Lattice => scene::packed_gas(&gas, &config, &placed),
+                    }
+                    .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
+                    if spec.zero_momentum {
+                        scene::zero_momentum(&mut discs, &config, spec.drift);
+                    }
                     add(
                         discs,
                         (&spec.color, &spec.kind),

@@ -243,3 +243,117 @@ mod tests {
         assert!(e.contains("gravity: [0.0, 0.0] vs [0.0, -"), "{e}");
     }
 }
+
+/// How the time step compares with the discs' speeds and sizes, and what that does to the
+/// physics: the numbers `bounce check` and `bounce run` print.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimeStepReport {
+    /// Mean speed × dt / mean diameter: how far a typical disc moves per step, in diameters.
+    pub mean_travel: f64,
+    /// Fastest speed × dt / smallest radius: above 1 a fast disc can pass through a small one.
+    pub max_travel: f64,
+    /// The packing fraction, where the world has a box.
+    pub packing: Option<f64>,
+    /// The expected low bias of the pressure, in percent (negative), from the measured
+    /// table in the README ("Choosing dt"): about `(0.2 + 9 η²) × mean_travel × 100`.
+    pub pressure_bias_percent: Option<f64>,
+    /// A warning with what to change, when the bias is over 1% or discs can tunnel.
+    pub warning: Option<String>,
+}
+
+impl Session {
+    /// The time step against the discs now (substeps and `max_travel` counted).
+    pub fn time_step_report(&self) -> TimeStepReport {
+        let world = &self.world;
+        let config = world.config();
+        let p = world.particles();
+        let n = p.len().max(1) as f64;
+        let speeds = p.vx().iter().zip(p.vy()).map(|(x, y)| x.hypot(*y));
+        let (sum, max) = speeds.fold((0.0, 0.0f64), |(s, m), v| (s + v, m.max(v)));
+        let mean_diameter = 2.0 * p.radius().iter().sum::<f64>() / n;
+        let r_min = p.radius().iter().copied().fold(f64::INFINITY, f64::min);
+        let h = self.dt / config.substeps as f64;
+        let mean_travel = sum / n * h / mean_diameter;
+        let max_travel = match config.max_travel {
+            // Adaptive substeps hold every disc to this.
+            Some(f) => f.min(max * h / r_min),
+            None => max * h / r_min,
+        };
+        let packing = config.boundary.bounds().map(|(lo, hi)| {
+            let discs: f64 = p
+                .radius()
+                .iter()
+                .map(|r| std::f64::consts::PI * r * r)
+                .sum();
+            discs / ((hi[0] - lo[0]) * (hi[1] - lo[1]))
+        });
+        let bias = packing.map(|eta| -(0.2 + 9.0 * eta * eta) * mean_travel * 100.0);
+        let mut warnings = Vec::new();
+        if let Some(b) = bias
+            && b < -1.0
+        {
+            warnings.push(format!(
+                "the pressure will be about {:.1}% low (mean travel {mean_travel:.3} diameters \
+                 per step at packing {:.2}); dt = {:.3e} or {} substeps bring it under 1%",
+                -b,
+                packing.unwrap_or(0.0),
+                self.dt / (-b),
+                (config.substeps as f64 * -b).ceil()
+            ));
+        }
+        if max_travel > 1.0 {
+            warnings.push(format!(
+                "the fastest disc moves {max_travel:.2} of the smallest radius per substep and \
+                 can pass through small discs or walls; set time.max_travel = 0.5"
+            ));
+        }
+        TimeStepReport {
+            mean_travel,
+            max_travel,
+            packing,
+            pressure_bias_percent: bias,
+            warning: (!warnings.is_empty()).then(|| warnings.join("; ")),
+        }
+    }
+}
+
+impl std::fmt::Display for TimeStepReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "time step: mean speed·dt/σ = {:.4}, max speed·dt/r_min = {:.3}",
+            self.mean_travel, self.max_travel
+        )?;
+        if let Some(b) = self.pressure_bias_percent {
+            write!(f, ", expected pressure bias {b:+.1}%")?;
+        }
+        if let Some(w) = &self.warning {
+            write!(f, "\nwarning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod time_step_tests {
+    use super::*;
+
+    #[test]
+    fn the_report_warns_when_the_step_biases_the_pressure() {
+        let gas = Session::builtin("gas").unwrap();
+        let report = gas.time_step_report();
+        assert!(report.mean_travel > 0.0 && report.packing.is_some());
+        // Ten times the step: the warning names a dt that brings the bias under 1%.
+        let coarse = gas
+            .text
+            .replace("dt = 0.016666666666666666", "dt = 0.16666666666666666");
+        let coarse = Session::from_text("coarse", &coarse).unwrap();
+        let report = coarse.time_step_report();
+        let warning = report.warning.expect("a warning");
+        assert!(
+            warning.contains("pressure will be about") && warning.contains("dt ="),
+            "{warning}"
+        );
+        assert!(report.pressure_bias_percent.unwrap() < -1.0);
+    }
+}

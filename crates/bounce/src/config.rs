@@ -38,6 +38,17 @@ pub struct Config {
     /// piles where overlaps must stay small. Must be `>= 1`.
     /// At most [`MAX_SUBSTEPS`].
     pub substeps: u32,
+    /// Passes of detection and resolution per substep. Default `1`, the seed's single pass.
+    /// More passes let a stack (a pile under gravity) pass its shared velocity down in one
+    /// substep, so piles settle under every restitution model. At most 100.
+    pub solver_iterations: u32,
+    /// Adaptive substeps: the farthest a disc may travel in one substep, as a fraction of the
+    /// smallest radius. `None` (the default) keeps `substeps` fixed. With `Some(f)`, each step
+    /// takes `max(substeps, ceil(v_max dt / (f r_min)))` substeps (at most
+    /// [`MAX_SUBSTEPS`]), chosen from the fastest disc at the start of the step and gravity:
+    /// fast discs cannot tunnel through discs or walls, and the time-step bias stays bounded.
+    /// Deterministic: the count depends on the state only. Must be finite and `> 0`.
+    pub max_travel: Option<f64>,
     /// What happens at the edge of the world. Default [`Boundary::Open`]: the seed names no box,
     /// and an open world invents no length scale. Use [`Boundary::walls`] for a container.
     pub boundary: Boundary,
@@ -62,6 +73,8 @@ impl Default for Config {
             coefficient_of_restitution: 1.0,
             gravity: [0.0, 0.0],
             substeps: 1,
+            solver_iterations: 1,
+            max_travel: None,
             boundary: Boundary::Open,
             mass_model: MassModel::Radius,
             restitution_model: RestitutionModel::ScaleEachNormalVelocity,
@@ -235,6 +248,18 @@ impl Config {
                 self.substeps.to_string(),
                 "must be in 1..=10000 (more makes one step take minutes and ignore Ctrl-C)",
             );
+        }
+        if !(1..=100).contains(&self.solver_iterations) {
+            err(
+                "solver_iterations",
+                self.solver_iterations.to_string(),
+                "must be in 1..=100",
+            );
+        }
+        if let Some(f) = self.max_travel
+            && !(f.is_finite() && f > 0.0)
+        {
+            err("max_travel", f.to_string(), "must be finite and > 0");
         }
         if let Some((min, max)) = self.boundary.bounds() {
             if !min.iter().chain(&max).all(|v| v.is_finite()) {

@@ -169,6 +169,37 @@ impl Geometry {
         }
     }
 
+    /// Keeps walls holding after a push: a centre closer to a wall than its radius `r` is
+    /// put back at that distance (velocities are left to the next integration, which
+    /// reflects a disc still moving outwards). Nothing happens in other geometries.
+    #[inline(always)]
+    pub(crate) fn hold(&self, x: &mut f64, y: &mut f64, r: f64) {
+        if let Geometry::Walls { min, max, .. } = *self {
+            // Only discs outside move (the others keep their bits); comparisons leave a NaN
+            // alone for the step's check to find.
+            for (v, lo, hi) in [(x, min[0], max[0]), (y, min[1], max[1])] {
+                if *v > hi - r {
+                    *v = hi - r;
+                }
+                if *v < lo + r {
+                    *v = lo + r;
+                }
+            }
+        }
+    }
+
+    /// The area the centres of discs of mean radius `r` move in: a periodic box's area,
+    /// the box less a radius at each wall; `None` in an open world.
+    pub(crate) fn area(&self, r: f64) -> Option<f64> {
+        match *self {
+            Geometry::Open => None,
+            Geometry::Periodic { size, .. } => Some(size[0] * size[1]),
+            Geometry::Walls { min, max, .. } => {
+                Some((max[0] - min[0] - 2.0 * r) * (max[1] - min[1] - 2.0 * r))
+            }
+        }
+    }
+
     /// The region a broadphase grid covers and whether it wraps; `None` in an open world,
     /// where the grid follows the discs.
     pub(crate) fn grid_extent(&self) -> Option<Extent> {

@@ -122,19 +122,6 @@ impl Executor {
         }
     }
 
-    /// Calls `f(i)` for each index of `range`; in parallel as `for_each_mut`.
-    pub(crate) fn for_each_index(
-        &self,
-        work: usize,
-        range: Range<usize>,
-        f: impl Fn(usize) + Sync + Send,
-    ) {
-        match self.pool_for(work) {
-            None => range.for_each(f),
-            Some(pool) => pool.install(|| range.into_par_iter().for_each(f)),
-        }
-    }
-
     /// Maps each index of `range` to a value, in index order.
     pub(crate) fn map_index<T: Send>(
         &self,

@@ -20,6 +20,20 @@ pub struct StepStats {
     pub wall_impulse: WallImpulse,
     /// Largest `collision_distance - distance` among the pairs found in any substep, or 0.
     pub max_overlap: f64,
+    /// The collision virial of the step, `W = (1/2) Σ r_ij · Δp_ij / dt` over the pairs
+    /// resolved in all its substeps (`r_ij = p_i - p_j`, `Δp_ij` the impulse on `i`): the
+    /// interaction part of the 2D virial equation `P A = N kT + W`. Energy units.
+    pub virial: f64,
+    /// The pressure `(K + W) / A` where `K` is the kinetic energy in the centre-of-mass
+    /// frame (`N kT` in 2D) and `A` the area the centres move in: the periodic box's area,
+    /// or between walls `(width − d)(height − d)` with `d` the mean diameter (walls stop a
+    /// centre one radius short; exact for equal discs). `None` in an open world, which has no
+    /// area. Force per length in 2D (M T⁻²); in a walled box it matches the walls' impulse per
+    /// time and length.
+    pub pressure: Option<f64>,
+    /// The substeps the step took: `Config::substeps`, or more when `Config::max_travel`
+    /// asked for them.
+    pub substeps: u32,
 }
 
 /// Wall-clock seconds spent in each stage of the last step, summed over its substeps.
@@ -76,27 +90,56 @@ impl Stopwatch {
     }
 }
 
-/// Kinetic energy and momentum of all discs, summed in fixed chunks (thread-count independent).
-pub(crate) fn energy_and_momentum(
-    p: &Particles,
-    mass_model: MassModel,
-    exec: &Executor,
-) -> (f64, [f64; 2]) {
+/// What one pass over the discs measures: the sums of the step's statistics and what the
+/// next step needs to choose its substeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Measured {
+    pub kinetic_energy: f64,
+    pub momentum: [f64; 2],
+    pub total_mass: f64,
+    /// The largest squared speed.
+    pub max_speed2: f64,
+    /// The smallest radius (infinite without discs).
+    pub min_radius: f64,
+    /// The sum of the radii.
+    pub radius_sum: f64,
+}
+
+/// Kinetic energy, momentum, total mass, the largest speed and the smallest radius of all
+/// discs, summed in fixed chunks (thread-count independent).
+pub(crate) fn measure(p: &Particles, mass_model: MassModel, exec: &Executor) -> Measured {
     let n = p.len();
     let partial = exec.map_index(n, 0..n.div_ceil(CHUNK), |chunk| {
-        let (mut e, mut px, mut py) = (0.0, 0.0, 0.0);
+        let mut out = Measured {
+            min_radius: f64::INFINITY,
+            ..Measured::default()
+        };
         for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
             let m = mass_model.mass(p.radius[i], p.mass[i]);
             let (vx, vy) = (p.vx[i], p.vy[i]);
-            e += 0.5 * m * (vx * vx + vy * vy);
-            px += m * vx;
-            py += m * vy;
+            let v2 = vx * vx + vy * vy;
+            out.kinetic_energy += 0.5 * m * v2;
+            out.momentum[0] += m * vx;
+            out.momentum[1] += m * vy;
+            out.total_mass += m;
+            out.max_speed2 = out.max_speed2.max(v2);
+            out.min_radius = out.min_radius.min(p.radius[i]);
+            out.radius_sum += p.radius[i];
         }
-        (e, px, py)
+        out
     });
-    partial
-        .iter()
-        .fold((0.0, [0.0, 0.0]), |(e, [px, py]), &(de, dx, dy)| {
-            (e + de, [px + dx, py + dy])
-        })
+    partial.iter().fold(
+        Measured {
+            min_radius: f64::INFINITY,
+            ..Measured::default()
+        },
+        |a, b| Measured {
+            kinetic_energy: a.kinetic_energy + b.kinetic_energy,
+            momentum: [a.momentum[0] + b.momentum[0], a.momentum[1] + b.momentum[1]],
+            total_mass: a.total_mass + b.total_mass,
+            max_speed2: a.max_speed2.max(b.max_speed2),
+            min_radius: a.min_radius.min(b.min_radius),
+            radius_sum: a.radius_sum + b.radius_sum,
+        },
+    )
 }

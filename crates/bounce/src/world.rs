@@ -21,7 +21,7 @@ use crate::law::Law;
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::resolve_all;
-use crate::stats::{StepProfile, StepStats, Stopwatch, energy_and_momentum};
+use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///
@@ -39,6 +39,10 @@ pub struct World {
     stats: StepStats,
     #[serde(skip)]
     profile: StepProfile,
+    /// What the last measurement found: the fastest disc and the smallest radius choose
+    /// adaptive substeps. Derived from the state, so recomputed on loading.
+    #[serde(skip)]
+    measured: Measured,
     /// Saved as its reference positions: when the candidate list is rebuilt decides the
     /// storage order, and so the last bits of the energy and impulse sums.
     #[serde(rename = "reference", serialize_with = "serialize_reference")]
@@ -104,6 +108,7 @@ impl World {
             steps: 0,
             stats: StepStats::default(),
             profile: StepProfile::default(),
+            measured: Measured::default(),
             broadphase: Broadphase::default(),
             contacts: Contacts::default(),
             exec: Executor::default(),
@@ -194,19 +199,25 @@ impl World {
         self.exec.threads()
     }
 
-    /// Advances the world by `dt`, in `config.substeps` substeps, and returns what it measured.
+    /// Advances the world by `dt`, in `config.substeps` substeps (more with
+    /// `config.max_travel`), and returns what it measured.
     pub fn step(&mut self, dt: f64) -> Result<&StepStats, StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep(dt));
         }
-        let h = dt / self.config.substeps as f64;
+        let substeps = self.substeps_for(dt);
+        let h = dt / substeps as f64;
         let ctx = StepContext::new(&self.config, h, &self.exec);
-        let mut stats = StepStats::default();
+        let mut stats = StepStats {
+            substeps,
+            ..StepStats::default()
+        };
         let mut profile = StepProfile::default();
         let mut clock = Stopwatch::start();
         let mut reordered = false;
         let mut finite = true;
-        for _ in 0..self.config.substeps {
+        let mut virial = 0.0;
+        'substeps: for _ in 0..substeps {
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
@@ -224,19 +235,39 @@ impl World {
             if rebuilt && bp.overflowed() {
                 // An infinite position (NaN ones come with NaN velocities, caught below).
                 finite = false;
-                break;
+                break 'substeps;
             }
 
-            let found = self.contacts.find(bp, &self.particles, &ctx);
-            stats.pairs += found.pairs;
-            stats.max_overlap = stats.max_overlap.max(found.max_overlap);
-            profile.pairs += clock.lap();
-
-            resolve_all(&self.contacts, &mut self.particles, &ctx);
-            profile.resolve += clock.lap();
+            // Detection and resolution, `solver_iterations` times: later passes see the
+            // velocities and places the earlier ones left (the candidates still hold every
+            // pair that can collide; the next integration measures the pushes).
+            for pass in 0..self.config.solver_iterations {
+                let found = self.contacts.find(bp, &self.particles, &ctx);
+                if pass == 0 {
+                    stats.pairs += found.pairs;
+                    stats.max_overlap = stats.max_overlap.max(found.max_overlap);
+                }
+                profile.pairs += clock.lap();
+                virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
+                profile.resolve += clock.lap();
+            }
         }
-        (stats.kinetic_energy, stats.momentum) =
-            energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
+        let measured = measure(&self.particles, self.config.mass_model, &self.exec);
+        (stats.kinetic_energy, stats.momentum) = (measured.kinetic_energy, measured.momentum);
+        // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
+        // impulses over the step.
+        stats.virial = 0.5 * virial / dt;
+        let mean_radius = measured.radius_sum / self.particles.len().max(1) as f64;
+        stats.pressure = ctx.geometry.area(mean_radius).map(|area| {
+            let [px, py] = measured.momentum;
+            let drift = if measured.total_mass > 0.0 {
+                (px * px + py * py) / (2.0 * measured.total_mass)
+            } else {
+                0.0
+            };
+            (measured.kinetic_energy - drift + stats.virial) / area
+        });
+        self.measured = measured;
         profile.measure += clock.lap();
         self.stats = stats;
         self.profile = profile;
@@ -254,6 +285,25 @@ impl World {
             });
         }
         Ok(&self.stats)
+    }
+
+    /// The substeps a step of `dt` takes: `config.substeps`, or with `config.max_travel` as
+    /// many as keep the fastest disc (gravity included) within `max_travel` of the smallest
+    /// radius per substep, at most [`crate::MAX_SUBSTEPS`].
+    fn substeps_for(&self, dt: f64) -> u32 {
+        let fixed = self.config.substeps;
+        let Some(fraction) = self.config.max_travel else {
+            return fixed;
+        };
+        let m = &self.measured;
+        let [gx, gy] = self.config.gravity;
+        let v_max = m.max_speed2.sqrt() + (gx * gx + gy * gy).sqrt() * dt;
+        let needed = (v_max * dt / (fraction * m.min_radius)).ceil();
+        if needed.is_finite() && needed > fixed as f64 {
+            needed.min(crate::MAX_SUBSTEPS as f64) as u32
+        } else {
+            fixed
+        }
     }
 
     /// What the last step measured (energy and momentum are kept current when particles are
@@ -437,8 +487,9 @@ impl World {
     }
 
     fn refresh_stats(&mut self) {
+        self.measured = measure(&self.particles, self.config.mass_model, &self.exec);
         (self.stats.kinetic_energy, self.stats.momentum) =
-            energy_and_momentum(&self.particles, self.config.mass_model, &self.exec);
+            (self.measured.kinetic_energy, self.measured.momentum);
     }
 }
 
@@ -528,6 +579,7 @@ impl TryFrom<WorldState> for World {
         world.next_id = state.next_id;
         world.time = state.time;
         world.steps = state.steps;
+        world.measured = measure(&world.particles, world.config.mass_model, &world.exec);
         world.stats = state.stats;
         Ok(world)
     }
