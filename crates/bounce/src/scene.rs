@@ -342,10 +342,10 @@ pub fn packed_gas(
     // Rows √3/2 of the column spacing apart fill a triangular lattice; an even number of rows
     // keeps the stagger continuous across a periodic box.
     let count = spec.count as f64;
-    let mut nx = ((count * size[0] / size[1] * 2.0 / 3f64.sqrt())
+    let mut nx = (count * size[0] / size[1] * 3f64.sqrt() / 2.0)
         .sqrt()
-        .ceil())
-    .max(1.0);
+        .ceil()
+        .max(1.0);
     let mut ny = (count / nx).ceil().max(1.0);
     if periodic && ny % 2.0 == 1.0 && ny > 1.0 {
         ny += 1.0;
