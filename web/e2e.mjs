@@ -3,7 +3,7 @@
 // MODE where MODE is "webgl" (the viewer), "fallback" (the 2D canvas page), "fallback-scenario"
 // (the 2D canvas with ?scenario=mixing) or "fps".
 import { chromium } from "playwright-core";
-import { mkdtempSync } from "node:fs";
+import { mkdtempSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 
@@ -22,7 +22,8 @@ const pastStep = (page, api, n) =>
     { timeout: 60000 },
   );
 
-const context = await chromium.launchPersistentContext(mkdtempSync(join(tmpdir(), "bounce-chromium-")), {
+const profile = mkdtempSync(join(tmpdir(), "bounce-chromium-"));
+const context = await chromium.launchPersistentContext(profile, {
   executablePath: "/usr/bin/chromium",
   headless: true,
   viewport: { width: 1280, height: 800 },
@@ -103,4 +104,5 @@ try {
   result.error = String(e);
 }
 await context.close();
+rmSync(profile, { recursive: true, force: true });
 console.log(JSON.stringify(result));

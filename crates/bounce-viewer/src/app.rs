@@ -276,6 +276,20 @@ impl ViewerApp {
                 .text("dt"),
         );
         ui.add(egui::Slider::new(&mut config.substeps, 1..=16).text("substeps"));
+        ui.add(egui::Slider::new(&mut config.solver_iterations, 1..=16).text("solver passes"));
+        let mut adaptive = config.max_travel.is_some();
+        ui.checkbox(&mut adaptive, "adaptive substeps (no tunnelling)");
+        if adaptive {
+            let mut travel = config.max_travel.unwrap_or(0.5);
+            ui.add(
+                egui::Slider::new(&mut travel, 0.05..=2.0)
+                    .logarithmic(true)
+                    .text("max travel / r_min"),
+            );
+            config.max_travel = Some(travel);
+        } else {
+            config.max_travel = None;
+        }
         ui.label("model options");
         egui::ComboBox::from_label("mass")
             .selected_text(format!("{:?}", config.mass_model))
@@ -371,6 +385,17 @@ impl ViewerApp {
             ui.end_row();
             ui.label("time");
             ui.label(format!("{:.3}", self.session.world.time()));
+            ui.end_row();
+            let stats = self.session.world.stats();
+            ui.label("pressure");
+            ui.label(
+                stats
+                    .pressure
+                    .map_or("– (open)".into(), |p| format!("{p:.4}")),
+            );
+            ui.end_row();
+            ui.label("substeps");
+            ui.label(stats.substeps.to_string());
             ui.end_row();
             ui.label("state hash");
             ui.monospace(format!("{:016x}", self.session.world.state_hash()));
