@@ -6,6 +6,7 @@ mod plots;
 mod render;
 mod run;
 mod stats_csv;
+mod validate;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -75,6 +76,16 @@ enum Command {
         /// Where the headless screenshot goes (PNG; a .txt beside it locates the discs).
         #[arg(long, requires = "headless_frames")]
         screenshot: Option<PathBuf>,
+    },
+    /// Run short reference simulations and compare them with theory (Maxwell–Boltzmann,
+    /// conservation, the hard-disc equation of state, equipartition, the model options).
+    Validate {
+        /// Smaller and shorter runs: under a minute.
+        #[arg(long)]
+        quick: bool,
+        /// Where the plot goes.
+        #[arg(long, default_value = "validate")]
+        out: PathBuf,
     },
     /// Validate a scenario file and report every problem with its line.
     Check {
@@ -239,6 +250,11 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             view(scenario, headless_frames.zip(screenshot))?;
             Ok(ExitCode::SUCCESS)
         }
+        Command::Validate { quick, out } => Ok(if validate::validate(quick, &out)? {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
+        }),
         Command::Check { scenario, steer } => {
             let (text, origin, limits) = steer.apply(&scenario)?;
             let session = bounce_scenario::Session::from_text_with(&origin, &text, &limits)?;

@@ -32,7 +32,7 @@ pub struct Sample {
     pub potential: f64,
 }
 
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     let bytes = FONTS
         .iter()
         .find_map(|p| std::fs::read(p).ok())
@@ -90,6 +90,11 @@ pub fn draw(history: &[Sample], world: &World, total_mass: f64, path: &Path) -> 
         histogram(&right, world, total_mass, !gravity)?;
         root.present().map_err(plot_err)?;
     }
+    save_rgb(&rgb, w, h, path)
+}
+
+/// Saves an RGB buffer of `w` × `h` pixels as a PNG (atomically).
+pub(crate) fn save_rgb(rgb: &[u8], w: u32, h: u32, path: &Path) -> Result<()> {
     let image = tiny_skia::IntSize::from_wh(w, h)
         .and_then(|size| {
             let rgba: Vec<u8> = rgb
@@ -99,10 +104,11 @@ pub fn draw(history: &[Sample], world: &World, total_mass: f64, path: &Path) -> 
             tiny_skia::Pixmap::from_vec(rgba, size)
         })
         .ok_or_else(|| anyhow!("cannot build the plot image"))?;
-    crate::render::save_png(&image, path).context("cannot write plots.png")
+    crate::render::save_png(&image, path)
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
-fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub(crate) fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("cannot draw plots.png: {e:?}")
 }
 

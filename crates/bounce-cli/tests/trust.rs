@@ -640,3 +640,19 @@ fn strip_output_keys(text: &str) -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+#[test]
+fn validate_quick_passes_every_check_and_draws_the_equation_of_state() {
+    let s = Scratch::new();
+    let (code, stdout, stderr) = output(
+        bounce()
+            .args(["validate", "--quick", "--out"])
+            .arg(s.path("v")),
+    );
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert_eq!(stdout.matches("PASS").count(), 7, "{stdout}");
+    assert!(!stdout.contains("FAIL"), "{stdout}");
+    assert!(stdout.contains("7 of 7 checks passed in"), "{stdout}");
+    let plot = tiny_skia::Pixmap::load_png(s.path("v/validate.png")).unwrap();
+    assert_eq!((plot.width(), plot.height()), (800, 560));
+}
