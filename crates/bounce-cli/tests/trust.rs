@@ -656,3 +656,33 @@ fn validate_quick_passes_every_check_and_draws_the_equation_of_state() {
     let plot = tiny_skia::Pixmap::load_png(s.path("v/validate.png")).unwrap();
     assert_eq!((plot.width(), plot.height()), (800, 560));
 }
+
+#[test]
+fn a_lattice_gas_reaches_a_dense_liquid_from_a_scenario() {
+    let s = Scratch::new();
+    // Packing 0.7 in a 40 × 40 periodic box: random placement cannot, the lattice can.
+    let text = |placement: &str| {
+        format!(
+            "[world]\nboundary = \"periodic\"\nmin = [0.0, 0.0]\nmax = [40.0, 40.0]\n\
+             [time]\ndt = 0.005\nsteps = 20\n[[gas]]\ncount = 1426\nradius = 0.5\n\
+             temperature = 1.0\nzero_momentum = true\nplacement = \"{placement}\"\n"
+        )
+    };
+    let random = s.scenario("random.toml", &text("random"));
+    let (code, _, stderr) = check(&random, &[]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("could only place"), "{stderr}");
+    let lattice = s.scenario("lattice.toml", &text("lattice"));
+    let (code, stdout, stderr) = check(&lattice, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("1426 particles"), "{stdout}");
+    let (code, stdout, stderr) = run(&s, &lattice, "out", &[]);
+    assert_eq!(code, 0, "{stderr}");
+    // Zero net momentum from the start: every row's momentum is rounding.
+    let csv = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    for row in csv.lines().skip(1) {
+        let cols: Vec<f64> = row.split(',').take(5).map(|v| v.parse().unwrap()).collect();
+        assert!(cols[3].abs() < 1e-9 && cols[4].abs() < 1e-9, "{row}");
+    }
+    assert!(stdout.contains("expected pressure bias"), "{stdout}");
+}
