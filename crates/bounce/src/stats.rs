@@ -96,18 +96,41 @@ impl Stopwatch {
 pub(crate) struct Measured {
     pub kinetic_energy: f64,
     pub momentum: [f64; 2],
+    /// The total mass (set by the world, in id order, when discs or the config change).
     pub total_mass: f64,
-    /// The largest squared speed.
+    /// The largest squared speed (only measured for adaptive substeps).
     pub max_speed2: f64,
-    /// The smallest radius (infinite without discs).
+    /// The smallest radius (infinite without discs; only for adaptive substeps).
     pub min_radius: f64,
-    /// The sum of the radii.
+    /// The sum of the radii (set by the world like the total mass).
     pub radius_sum: f64,
 }
 
-/// Kinetic energy, momentum, total mass, the largest speed and the smallest radius of all
-/// discs, summed in fixed chunks (thread-count independent).
-pub(crate) fn measure(p: &Particles, mass_model: MassModel, exec: &Executor) -> Measured {
+/// Kinetic energy and momentum of all discs, and with `extremes` the
+/// largest speed and the smallest radius (what adaptive substeps need; the minimum and
+/// maximum cost as much as the rest of the pass, so only then), summed in fixed chunks
+/// (thread-count independent).
+///
+/// The total mass and the radius sum change only when discs or the configuration do: the
+/// world sums them in id order then (`World::totals_by_id`), not here.
+pub(crate) fn measure(
+    p: &Particles,
+    mass_model: MassModel,
+    exec: &Executor,
+    extremes: bool,
+) -> Measured {
+    if extremes {
+        measure_pass::<true>(p, mass_model, exec)
+    } else {
+        measure_pass::<false>(p, mass_model, exec)
+    }
+}
+
+fn measure_pass<const EXTREMES: bool>(
+    p: &Particles,
+    mass_model: MassModel,
+    exec: &Executor,
+) -> Measured {
     let n = p.len();
     let partial = exec.map_index(n, 0..n.div_ceil(CHUNK), |chunk| {
         let mut out = Measured {
@@ -121,10 +144,10 @@ pub(crate) fn measure(p: &Particles, mass_model: MassModel, exec: &Executor) -> 
             out.kinetic_energy += 0.5 * m * v2;
             out.momentum[0] += m * vx;
             out.momentum[1] += m * vy;
-            out.total_mass += m;
-            out.max_speed2 = out.max_speed2.max(v2);
-            out.min_radius = out.min_radius.min(p.radius[i]);
-            out.radius_sum += p.radius[i];
+            if EXTREMES {
+                out.max_speed2 = out.max_speed2.max(v2);
+                out.min_radius = out.min_radius.min(p.radius[i]);
+            }
         }
         out
     });
@@ -136,10 +159,10 @@ pub(crate) fn measure(p: &Particles, mass_model: MassModel, exec: &Executor) -> 
         |a, b| Measured {
             kinetic_energy: a.kinetic_energy + b.kinetic_energy,
             momentum: [a.momentum[0] + b.momentum[0], a.momentum[1] + b.momentum[1]],
-            total_mass: a.total_mass + b.total_mass,
+            total_mass: 0.0,
             max_speed2: a.max_speed2.max(b.max_speed2),
             min_radius: a.min_radius.min(b.min_radius),
-            radius_sum: a.radius_sum + b.radius_sum,
+            radius_sum: 0.0,
         },
     )
 }

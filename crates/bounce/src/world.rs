@@ -252,7 +252,16 @@ impl World {
                 profile.resolve += clock.lap();
             }
         }
-        let measured = measure(&self.particles, self.config.mass_model, &self.exec);
+        let measured = Measured {
+            total_mass: self.measured.total_mass,
+            radius_sum: self.measured.radius_sum,
+            ..measure(
+                &self.particles,
+                self.config.mass_model,
+                &self.exec,
+                self.config.max_travel.is_some(),
+            )
+        };
         (stats.kinetic_energy, stats.momentum) = (measured.kinetic_energy, measured.momentum);
         // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
         // impulses over the step.
@@ -486,8 +495,29 @@ impl World {
             .map_or_else(|| "?".into(), |id| id.to_string())
     }
 
+    /// The total mass and the sum of the radii, summed in id order: the same bits whatever
+    /// the storage order, so a loaded world measures its pressure as the original does.
+    fn totals_by_id(&self) -> (f64, f64) {
+        let p = &self.particles;
+        let law = Law::new(&self.config);
+        let (mut mass, mut radius) = (0.0, 0.0);
+        for id in 0..self.next_id {
+            if let Some(i) = self.index_of(ParticleId(id)) {
+                mass += law.mass(p.radius[i], p.mass[i]);
+                radius += p.radius[i];
+            }
+        }
+        (mass, radius)
+    }
+
     fn refresh_stats(&mut self) {
-        self.measured = measure(&self.particles, self.config.mass_model, &self.exec);
+        self.measured = measure(
+            &self.particles,
+            self.config.mass_model,
+            &self.exec,
+            self.config.max_travel.is_some(),
+        );
+        (self.measured.total_mass, self.measured.radius_sum) = self.totals_by_id();
         (self.stats.kinetic_energy, self.stats.momentum) =
             (self.measured.kinetic_energy, self.measured.momentum);
     }
@@ -579,7 +609,13 @@ impl TryFrom<WorldState> for World {
         world.next_id = state.next_id;
         world.time = state.time;
         world.steps = state.steps;
-        world.measured = measure(&world.particles, world.config.mass_model, &world.exec);
+        world.measured = measure(
+            &world.particles,
+            world.config.mass_model,
+            &world.exec,
+            world.config.max_travel.is_some(),
+        );
+        (world.measured.total_mass, world.measured.radius_sum) = world.totals_by_id();
         world.stats = state.stats;
         Ok(world)
     }
