@@ -133,23 +133,28 @@ fn measure_pass<const EXTREMES: bool>(
 ) -> Measured {
     let n = p.len();
     let partial = exec.map_index(n, 0..n.div_ceil(CHUNK), |chunk| {
-        let mut out = Measured {
-            min_radius: f64::INFINITY,
-            ..Measured::default()
-        };
+        // Scalars, not a struct, so the accumulators stay in registers.
+        let (mut e, mut px, mut py) = (0.0, 0.0, 0.0);
+        let (mut max_speed2, mut min_radius) = (0.0f64, f64::INFINITY);
         for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
             let m = mass_model.mass(p.radius[i], p.mass[i]);
             let (vx, vy) = (p.vx[i], p.vy[i]);
             let v2 = vx * vx + vy * vy;
-            out.kinetic_energy += 0.5 * m * v2;
-            out.momentum[0] += m * vx;
-            out.momentum[1] += m * vy;
+            e += 0.5 * m * v2;
+            px += m * vx;
+            py += m * vy;
             if EXTREMES {
-                out.max_speed2 = out.max_speed2.max(v2);
-                out.min_radius = out.min_radius.min(p.radius[i]);
+                max_speed2 = max_speed2.max(v2);
+                min_radius = min_radius.min(p.radius[i]);
             }
         }
-        out
+        Measured {
+            kinetic_energy: e,
+            momentum: [px, py],
+            max_speed2,
+            min_radius,
+            ..Measured::default()
+        }
     });
     partial.iter().fold(
         Measured {
