@@ -78,18 +78,12 @@ fn set_path(item: &mut Item, path: &[&str], value: Value) -> Result<(), String> 
     let table = item
         .as_table_like_mut()
         .ok_or_else(|| format!("{head:?} is inside a value, not a table"))?;
-    if rest.is_empty() {
-        table.insert(head, Item::Value(value));
-        return Ok(());
-    }
-    if table.get(head).is_none() {
-        table.insert(head, Item::Table(toml_edit::Table::new()));
-    }
-    set_path(table.get_mut(head).expect("inserted"), rest, value)
+    set_path_in_table(table, path, value)
 }
 
+/// Sets `path` inside `table`, making tables on the way.
 fn set_path_in_table(
-    table: &mut toml_edit::Table,
+    table: &mut dyn toml_edit::TableLike,
     path: &[&str],
     value: Value,
 ) -> Result<(), String> {

@@ -510,7 +510,8 @@ impl World {
         (mass, radius)
     }
 
-    fn refresh_stats(&mut self) {
+    /// Measures the discs again: what the next step's substeps and the pressure need.
+    fn remeasure(&mut self) {
         self.measured = measure(
             &self.particles,
             self.config.mass_model,
@@ -518,6 +519,10 @@ impl World {
             self.config.max_travel.is_some(),
         );
         (self.measured.total_mass, self.measured.radius_sum) = self.totals_by_id();
+    }
+
+    fn refresh_stats(&mut self) {
+        self.remeasure();
         (self.stats.kinetic_energy, self.stats.momentum) =
             (self.measured.kinetic_energy, self.measured.momentum);
     }
@@ -609,13 +614,7 @@ impl TryFrom<WorldState> for World {
         world.next_id = state.next_id;
         world.time = state.time;
         world.steps = state.steps;
-        world.measured = measure(
-            &world.particles,
-            world.config.mass_model,
-            &world.exec,
-            world.config.max_travel.is_some(),
-        );
-        (world.measured.total_mass, world.measured.radius_sum) = world.totals_by_id();
+        world.remeasure();
         world.stats = state.stats;
         Ok(world)
     }
