@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::broadphase::{self, Broadphase, Reference};
+use crate::broadphase::{self, Broadphase};
 use crate::config::{Config, ConfigError};
 use crate::contacts::Contacts;
 use crate::context::StepContext;
@@ -22,6 +22,12 @@ use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::resolve_all;
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
+
+mod state;
+#[cfg(test)]
+mod tests;
+
+use state::{WorldState, serialize_reference};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///
@@ -525,214 +531,5 @@ impl World {
         self.remeasure();
         (self.stats.kinetic_energy, self.stats.momentum) =
             (self.measured.kinetic_energy, self.measured.momentum);
-    }
-}
-
-/// The serialized form of a [`World`], validated on the way in.
-#[derive(Deserialize)]
-struct WorldState {
-    config: Config,
-    particles: Particles,
-    next_id: u32,
-    time: f64,
-    steps: u64,
-    stats: StepStats,
-    reference: Reference,
-}
-
-fn serialize_reference<S: serde::Serializer>(
-    broadphase: &Broadphase,
-    serializer: S,
-) -> Result<S::Ok, S::Error> {
-    broadphase.reference.serialize(serializer)
-}
-
-impl TryFrom<WorldState> for World {
-    type Error = WorldError;
-
-    fn try_from(state: WorldState) -> Result<World, WorldError> {
-        let mut world = World::new(state.config)?;
-        let (geometry, law) = (Geometry::new(&world.config), Law::new(&world.config));
-        let p = &state.particles;
-        let n = p.len();
-        let lengths = [
-            p.x.len(),
-            p.y.len(),
-            p.vx.len(),
-            p.vy.len(),
-            p.radius.len(),
-            p.mass.len(),
-            p.image.len(),
-        ];
-        if lengths.iter().any(|&l| l != n) {
-            return Err(WorldError::Inconsistent(format!(
-                "{n} ids but array lengths {lengths:?}"
-            )));
-        }
-        // Particles are never removed, so the ids are exactly 0..n and `next_id` is n. Checked
-        // with a bitmap of n (the arrays' own length), never by a size read from the data.
-        if state.next_id as usize != n {
-            return Err(WorldError::Inconsistent(format!(
-                "next_id {} does not follow the {n} particle ids",
-                state.next_id
-            )));
-        }
-        let mut seen = vec![false; n];
-        for i in 0..n {
-            let id = p.id[i];
-            match seen.get_mut(id.0 as usize) {
-                Some(s) if !*s => *s = true,
-                _ => {
-                    return Err(WorldError::Inconsistent(format!(
-                        "id {} is repeated or not below next_id {}",
-                        id.0, state.next_id
-                    )));
-                }
-            }
-            // Positions may sit slightly outside the walls after an overlap push, so a loaded
-            // state is checked for finite values and sizes, not for the box.
-            let particle = Particle {
-                position: [p.x[i], p.y[i]],
-                velocity: [p.vx[i], p.vy[i]],
-                radius: p.radius[i],
-                mass: Some(p.mass[i]),
-            };
-            particle
-                .validate_values()
-                .and_then(|()| geometry.fits_size(particle.radius, &law))
-                .map_err(|error| WorldError::Particle { id, error })?;
-        }
-        if !(state.time.is_finite()) {
-            return Err(WorldError::Inconsistent(format!(
-                "time {} is not finite",
-                state.time
-            )));
-        }
-        state.reference.check(n).map_err(WorldError::Inconsistent)?;
-        world.broadphase.reference = state.reference;
-        world.particles = state.particles;
-        world.next_id = state.next_id;
-        world.time = state.time;
-        world.steps = state.steps;
-        world.remeasure();
-        world.stats = state.stats;
-        Ok(world)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::Boundary;
-    use crate::scene::{self, Gas, Speeds};
-
-    /// A fast polydisperse gas, so discs cross the skin within a few steps.
-    fn world(boundary: Boundary, threads: usize) -> World {
-        let config = Config {
-            boundary,
-            gravity: [0.0, -1.0],
-            coefficient_of_restitution: 0.95,
-            ..Config::default()
-        };
-        let gas = Gas {
-            count: 600,
-            radius: [0.1, 1.0],
-            region: Some(([5.0, 5.0], [55.0, 55.0])),
-            speeds: Speeds::Uniform(6.0),
-            drift: [0.0, 0.0],
-            seed: 3,
-        };
-        let mut world = World::new(config.clone()).unwrap();
-        world
-            .add_particles(scene::gas(&gas, &config).unwrap())
-            .unwrap();
-        world.set_threads(threads).unwrap();
-        world.set_parallel_min_work(0);
-        world
-    }
-
-    #[test]
-    fn rebuilding_every_step_changes_nothing() {
-        // Kept candidate lists must never miss a contact: a run that keeps them and a run
-        // that rebuilds before every step end in the same state, bit for bit.
-        for boundary in [
-            Boundary::walls([0.0, 0.0], [60.0, 60.0]),
-            Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
-            Boundary::Open,
-        ] {
-            for threads in [1, 3] {
-                let (mut kept, mut fresh) = (
-                    world(boundary.clone(), threads),
-                    world(boundary.clone(), threads),
-                );
-                let mut rebuilds = 0;
-                for _ in 0..120 {
-                    kept.step(1.0 / 60.0).unwrap();
-                    rebuilds += kept.profile().rebuilds;
-                    fresh.broadphase.invalidate();
-                    fresh.step(1.0 / 60.0).unwrap();
-                    assert_eq!(fresh.profile().rebuilds, 1);
-                }
-                assert_eq!(kept.state_hash(), fresh.state_hash(), "{boundary:?}");
-                assert!(
-                    (5..60).contains(&rebuilds),
-                    "{boundary:?}: {rebuilds} rebuilds in 120 steps"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn a_world_loaded_between_rebuilds_lists_at_its_reference() {
-        let mut straight = world(Boundary::walls([0.0, 0.0], [60.0, 60.0]), 2);
-        // Step until a step keeps its list: the saved reference is then in use.
-        straight.step(1.0 / 60.0).unwrap();
-        while straight.profile().rebuilds > 0 {
-            straight.step(1.0 / 60.0).unwrap();
-        }
-        let bytes = postcard::to_stdvec(&straight).unwrap();
-        let mut loaded: World = postcard::from_bytes(&bytes).unwrap();
-        assert!(
-            loaded
-                .broadphase
-                .reference
-                .positions(loaded.len())
-                .is_some()
-        );
-        for _ in 0..60 {
-            straight.step(1.0 / 60.0).unwrap();
-            loaded.step(1.0 / 60.0).unwrap();
-            assert_eq!(loaded.profile().rebuilds, straight.profile().rebuilds);
-            assert_eq!(loaded.stats(), straight.stats());
-        }
-        assert_eq!(loaded.state_hash(), straight.state_hash());
-    }
-
-    #[test]
-    fn a_loaded_reference_of_the_wrong_length_is_refused() {
-        let mut world = world(Boundary::Open, 1);
-        world.step(1.0 / 60.0).unwrap();
-        assert!(world.broadphase.reference.check(world.len()).is_ok());
-        // A reference for one disc fewer.
-        let mut shorter = world.particles.clone();
-        shorter.truncate(world.len() - 1);
-        let mut other = World::new(world.config.clone()).unwrap();
-        other.particles = shorter;
-        other.step(1.0 / 60.0).unwrap();
-        let reference = other.broadphase.reference.clone();
-        let state = WorldState {
-            config: world.config.clone(),
-            particles: world.particles.clone(),
-            next_id: world.next_id,
-            time: world.time,
-            steps: world.steps,
-            stats: world.stats,
-            reference,
-        };
-        let error = World::try_from(state).unwrap_err().to_string();
-        assert!(
-            error.contains("reference positions for 599 and 599"),
-            "{error}"
-        );
     }
 }

@@ -1,0 +1,104 @@
+//! A world's saved form: what a checkpoint holds, and the validation of every invariant on
+//! the way back in, before anything is allocated by a value read from the data.
+
+use serde::{Deserialize, Serialize};
+
+use super::{World, WorldError};
+use crate::broadphase::{Broadphase, Reference};
+use crate::config::Config;
+use crate::geometry::Geometry;
+use crate::law::Law;
+use crate::particles::{Particle, Particles};
+use crate::stats::StepStats;
+
+/// The serialized form of a [`World`], validated on the way in.
+#[derive(Deserialize)]
+pub(super) struct WorldState {
+    pub(super) config: Config,
+    pub(super) particles: Particles,
+    pub(super) next_id: u32,
+    pub(super) time: f64,
+    pub(super) steps: u64,
+    pub(super) stats: StepStats,
+    pub(super) reference: Reference,
+}
+
+pub(super) fn serialize_reference<S: serde::Serializer>(
+    broadphase: &Broadphase,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    broadphase.reference.serialize(serializer)
+}
+
+impl TryFrom<WorldState> for World {
+    type Error = WorldError;
+
+    fn try_from(state: WorldState) -> Result<World, WorldError> {
+        let mut world = World::new(state.config)?;
+        let (geometry, law) = (Geometry::new(&world.config), Law::new(&world.config));
+        let p = &state.particles;
+        let n = p.len();
+        let lengths = [
+            p.x.len(),
+            p.y.len(),
+            p.vx.len(),
+            p.vy.len(),
+            p.radius.len(),
+            p.mass.len(),
+            p.image.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(WorldError::Inconsistent(format!(
+                "{n} ids but array lengths {lengths:?}"
+            )));
+        }
+        // Particles are never removed, so the ids are exactly 0..n and `next_id` is n. Checked
+        // with a bitmap of n (the arrays' own length), never by a size read from the data.
+        if state.next_id as usize != n {
+            return Err(WorldError::Inconsistent(format!(
+                "next_id {} does not follow the {n} particle ids",
+                state.next_id
+            )));
+        }
+        let mut seen = vec![false; n];
+        for i in 0..n {
+            let id = p.id[i];
+            match seen.get_mut(id.0 as usize) {
+                Some(s) if !*s => *s = true,
+                _ => {
+                    return Err(WorldError::Inconsistent(format!(
+                        "id {} is repeated or not below next_id {}",
+                        id.0, state.next_id
+                    )));
+                }
+            }
+            // Positions may sit slightly outside the walls after an overlap push, so a loaded
+            // state is checked for finite values and sizes, not for the box.
+            let particle = Particle {
+                position: [p.x[i], p.y[i]],
+                velocity: [p.vx[i], p.vy[i]],
+                radius: p.radius[i],
+                mass: Some(p.mass[i]),
+            };
+            particle
+                .validate_values()
+                .and_then(|()| geometry.fits_size(particle.radius, &law))
+                .map_err(|error| WorldError::Particle { id, error })?;
+        }
+        if !(state.time.is_finite()) {
+            return Err(WorldError::Inconsistent(format!(
+                "time {} is not finite",
+                state.time
+            )));
+        }
+        state.reference.check(n).map_err(WorldError::Inconsistent)?;
+        world.broadphase.reference = state.reference;
+        world.particles = state.particles;
+        world.next_id = state.next_id;
+        world.time = state.time;
+        world.steps = state.steps;
+        world.remeasure();
+        world.stats = state.stats;
+        Ok(world)
+    }
+}

@@ -1,0 +1,117 @@
+//! The world's own tests: kept candidate lists never miss a contact, loaded worlds list at
+//! their reference.
+
+use super::state::WorldState;
+use super::*;
+use crate::Boundary;
+use crate::scene::{self, Gas, Speeds};
+
+/// A fast polydisperse gas, so discs cross the skin within a few steps.
+fn world(boundary: Boundary, threads: usize) -> World {
+    let config = Config {
+        boundary,
+        gravity: [0.0, -1.0],
+        coefficient_of_restitution: 0.95,
+        ..Config::default()
+    };
+    let gas = Gas {
+        count: 600,
+        radius: [0.1, 1.0],
+        region: Some(([5.0, 5.0], [55.0, 55.0])),
+        speeds: Speeds::Uniform(6.0),
+        drift: [0.0, 0.0],
+        seed: 3,
+    };
+    let mut world = World::new(config.clone()).unwrap();
+    world
+        .add_particles(scene::gas(&gas, &config).unwrap())
+        .unwrap();
+    world.set_threads(threads).unwrap();
+    world.set_parallel_min_work(0);
+    world
+}
+
+#[test]
+fn rebuilding_every_step_changes_nothing() {
+    // Kept candidate lists must never miss a contact: a run that keeps them and a run
+    // that rebuilds before every step end in the same state, bit for bit.
+    for boundary in [
+        Boundary::walls([0.0, 0.0], [60.0, 60.0]),
+        Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
+        Boundary::Open,
+    ] {
+        for threads in [1, 3] {
+            let (mut kept, mut fresh) = (
+                world(boundary.clone(), threads),
+                world(boundary.clone(), threads),
+            );
+            let mut rebuilds = 0;
+            for _ in 0..120 {
+                kept.step(1.0 / 60.0).unwrap();
+                rebuilds += kept.profile().rebuilds;
+                fresh.broadphase.invalidate();
+                fresh.step(1.0 / 60.0).unwrap();
+                assert_eq!(fresh.profile().rebuilds, 1);
+            }
+            assert_eq!(kept.state_hash(), fresh.state_hash(), "{boundary:?}");
+            assert!(
+                (5..60).contains(&rebuilds),
+                "{boundary:?}: {rebuilds} rebuilds in 120 steps"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_world_loaded_between_rebuilds_lists_at_its_reference() {
+    let mut straight = world(Boundary::walls([0.0, 0.0], [60.0, 60.0]), 2);
+    // Step until a step keeps its list: the saved reference is then in use.
+    straight.step(1.0 / 60.0).unwrap();
+    while straight.profile().rebuilds > 0 {
+        straight.step(1.0 / 60.0).unwrap();
+    }
+    let bytes = postcard::to_stdvec(&straight).unwrap();
+    let mut loaded: World = postcard::from_bytes(&bytes).unwrap();
+    assert!(
+        loaded
+            .broadphase
+            .reference
+            .positions(loaded.len())
+            .is_some()
+    );
+    for _ in 0..60 {
+        straight.step(1.0 / 60.0).unwrap();
+        loaded.step(1.0 / 60.0).unwrap();
+        assert_eq!(loaded.profile().rebuilds, straight.profile().rebuilds);
+        assert_eq!(loaded.stats(), straight.stats());
+    }
+    assert_eq!(loaded.state_hash(), straight.state_hash());
+}
+
+#[test]
+fn a_loaded_reference_of_the_wrong_length_is_refused() {
+    let mut world = world(Boundary::Open, 1);
+    world.step(1.0 / 60.0).unwrap();
+    assert!(world.broadphase.reference.check(world.len()).is_ok());
+    // A reference for one disc fewer.
+    let mut shorter = world.particles.clone();
+    shorter.truncate(world.len() - 1);
+    let mut other = World::new(world.config.clone()).unwrap();
+    other.particles = shorter;
+    other.step(1.0 / 60.0).unwrap();
+    let reference = other.broadphase.reference.clone();
+    let state = WorldState {
+        config: world.config.clone(),
+        particles: world.particles.clone(),
+        next_id: world.next_id,
+        time: world.time,
+        steps: world.steps,
+        stats: world.stats,
+        reference,
+    };
+    let error = World::try_from(state).unwrap_err().to_string();
+    assert!(
+        error.contains("reference positions for 599 and 599"),
+        "{error}"
+    );
+}
