@@ -156,19 +156,10 @@ fn series<DB: DrawingBackend>(
     history: &[Sample],
     lines: &[Line],
 ) -> Result<()> {
-    let (t_start, t_end) = axis_range(history.iter().map(|s| s.time));
-    let (t_start, t_end) = if history.len() > 1 {
-        (
-            history.first().map_or(t_start, |s| s.time),
-            history.last().map_or(t_end, |s| s.time),
-        )
-    } else {
-        (t_start, t_end)
-    };
-    let (t_start, t_end) = if t_start < t_end && (t_end - t_start).is_finite() {
-        (t_start, t_end)
-    } else {
-        axis_range([t_start, t_end].into_iter())
+    // The run's time span exactly; padded only when it is a single instant.
+    let (t_start, t_end) = match (history.first(), history.last()) {
+        (Some(a), Some(b)) if a.time < b.time && (b.time - a.time).is_finite() => (a.time, b.time),
+        _ => axis_range(history.iter().map(|s| s.time)),
     };
     let (lo, hi) = axis_range(
         lines

@@ -319,7 +319,7 @@ struct Outputs {
 impl Outputs {
     fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
         let world = &session.world;
-        let total_mass: f64 = bounce_scenario::analysis::total_mass(world);
+        let total_mass = bounce_scenario::analysis::total_mass(world);
         let gsd = if schedule.output.gsd_every > 0 {
             Some(GsdWriter::create(
                 &dir.join("trajectory.gsd"),
@@ -335,6 +335,7 @@ impl Outputs {
             schedule,
             StatsCsv::create(dir, total_mass)?,
             gsd,
+            total_mass,
         )?;
         outputs.gif = match (&outputs.painter, outputs.schedule.output.gif) {
             (Some(p), true) => Some(GifWriter::create(&dir.join("animation.gif"), p.size())?),
@@ -347,7 +348,7 @@ impl Outputs {
     fn resume(session: &Session, dir: &Path, schedule: Schedule, run: RunState) -> Result<Self> {
         let world = &session.world;
         let k = world.step_count();
-        let total_mass: f64 = bounce_scenario::analysis::total_mass(world);
+        let total_mass = bounce_scenario::analysis::total_mass(world);
         // Everything before the checkpoint's step, and at it only what the schedule has
         // there (not the extra last step of a stopped run).
         let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
@@ -370,7 +371,7 @@ impl Outputs {
                     .with_context(|| format!("cannot remove {}", frame.display()))?;
             }
         }
-        let mut outputs = Self::open(session, dir, schedule, stats, gsd)?;
+        let mut outputs = Self::open(session, dir, schedule, stats, gsd, total_mass)?;
         outputs.recorded = [Some(k); 3];
         Ok(outputs)
     }
@@ -381,6 +382,7 @@ impl Outputs {
         schedule: Schedule,
         stats: StatsCsv,
         gsd: Option<GsdWriter>,
+        total_mass: f64,
     ) -> Result<Self> {
         let world = &session.world;
         let spec = &schedule.output;
@@ -398,7 +400,7 @@ impl Outputs {
                 .with_context(|| format!("cannot create {}", dir.join("frames").display()))?;
         }
         Ok(Outputs {
-            total_mass: bounce_scenario::analysis::total_mass(world),
+            total_mass,
             schedule,
             dir: dir.to_path_buf(),
             dt: session.dt,

@@ -742,12 +742,13 @@ impl Scenario {
                 &mut at,
             );
         }
-        if self.particle_count().is_none() {
+        let count = self.particle_count();
+        if count.is_none() {
             at(
                 None,
                 "the scenario asks for more particles than 2^64 (a count overflows)".into(),
             );
-        } else if self.particle_count() == Some(0) {
+        } else if count == Some(0) {
             at(
                 None,
                 "the scenario has no particles: add [[gas]], [[lattice]], [[block]] or [[disc]]"

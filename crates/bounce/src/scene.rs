@@ -103,16 +103,12 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
 /// The most discs one generator places.
 pub const MAX_GAS_COUNT: u64 = 1 << 40;
 
-/// Places a random gas for `config` whose discs keep clear of `existing` ones (placed by
-/// earlier generators) as of each other. Fails if the spec is invalid or the discs do not fit.
-///
-/// The work per attempt is bounded by the discs placed so far, whatever the radii, the
-/// collision_radius_scale or the region's size.
-pub fn gas_among(
+/// Checks a gas spec (count, radii, speeds, region) and returns the geometry and the region
+/// its centres go in: the spec's, else the box.
+fn checked_region(
     spec: &Gas,
     config: &Config,
-    existing: &[Particle],
-) -> Result<Vec<Particle>, SceneError> {
+) -> Result<(Geometry, ([f64; 2], [f64; 2])), SceneError> {
     let [r_lo, r_hi] = spec.radius;
     if spec.count as u64 > MAX_GAS_COUNT {
         return Err(invalid(
@@ -139,7 +135,6 @@ pub fn gas_among(
         ));
     }
     let geometry = Geometry::new(config);
-    let periodic = geometry.is_periodic();
     let (min, max) = spec
         .region
         .or(geometry.bounds())
@@ -151,6 +146,22 @@ pub fn gas_among(
             "finite with min < max",
         ));
     }
+    Ok((geometry, (min, max)))
+}
+
+/// Places a random gas for `config` whose discs keep clear of `existing` ones (placed by
+/// earlier generators) and of each other. Fails if the spec is invalid or the discs do not fit.
+///
+/// The work per attempt is bounded by the discs placed so far, whatever the radii, the
+/// collision_radius_scale or the region's size.
+pub fn gas_among(
+    spec: &Gas,
+    config: &Config,
+    existing: &[Particle],
+) -> Result<Vec<Particle>, SceneError> {
+    let (geometry, (min, max)) = checked_region(spec, config)?;
+    let [r_lo, r_hi] = spec.radius;
+    let periodic = geometry.is_periodic();
     let law = Law::new(config);
     let mut rng = Pcg64Mcg::seed_from_u64(spec.seed);
 
@@ -300,29 +311,9 @@ pub fn packed_gas(
     config: &Config,
     existing: &[Particle],
 ) -> Result<Vec<Particle>, SceneError> {
-    // The same checks and defaults as random placement.
-    gas_among(
-        &Gas {
-            count: 0,
-            ..spec.clone()
-        },
-        config,
-        &[],
-    )?;
-    if spec.count as u64 > MAX_GAS_COUNT {
-        return Err(invalid(
-            "count",
-            spec.count.to_string(),
-            "at most 2^40 discs per generator",
-        ));
-    }
-    let geometry = Geometry::new(config);
+    let (geometry, (min, max)) = checked_region(spec, config)?;
     let law = Law::new(config);
     let periodic = geometry.is_periodic();
-    let (min, max) = spec
-        .region
-        .or(geometry.bounds())
-        .expect("checked by gas_among");
     let [r_lo, r_hi] = spec.radius;
     let margin = if periodic { 0.0 } else { r_hi };
     let size = [
