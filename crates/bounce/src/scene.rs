@@ -103,12 +103,12 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
 /// The most discs one generator places.
 pub const MAX_GAS_COUNT: u64 = 1 << 40;
 
+/// A rectangle: lower-left and upper-right corners.
+type Region = ([f64; 2], [f64; 2]);
+
 /// Checks a gas spec (count, radii, speeds, region) and returns the geometry and the region
 /// its centres go in: the spec's, else the box.
-fn checked_region(
-    spec: &Gas,
-    config: &Config,
-) -> Result<(Geometry, ([f64; 2], [f64; 2])), SceneError> {
+fn checked_region(spec: &Gas, config: &Config) -> Result<(Geometry, Region), SceneError> {
     let [r_lo, r_hi] = spec.radius;
     if spec.count as u64 > MAX_GAS_COUNT {
         return Err(invalid(
