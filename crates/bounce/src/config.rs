@@ -39,8 +39,10 @@ pub struct Config {
     /// At most [`MAX_SUBSTEPS`].
     pub substeps: u32,
     /// Passes of detection and resolution per substep. Default `1`, the seed's single pass.
-    /// More passes let a stack (a pile under gravity) pass its shared velocity down in one
-    /// substep, so piles settle under every restitution model. At most 100.
+    /// With more, each pass ends with the walls as contacts (a disc touching a wall and
+    /// moving into it bounces with the wall restitution), so a stack (a pile under gravity)
+    /// passes its shared velocity down to the floor within a substep: a pile under the
+    /// momentum-conserving model stops compressing. At most 100.
     pub solver_iterations: u32,
     /// Adaptive substeps: the farthest a disc may travel in one substep, as a fraction of the
     /// smallest radius. `None` (the default) keeps `substeps` fixed. With `Some(f)`, each step

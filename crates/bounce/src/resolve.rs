@@ -4,11 +4,19 @@
 //! seed's loop does): a disc pushed by one pair is seen at its new place by the next. The
 //! order is the canonical order of `contacts`; the pieces of one colour touch disjoint discs,
 //! so they run in parallel and still give the serial result bit for bit.
+//!
+//! With more than one solver pass, walls are contacts too: after each pass's pairs,
+//! [`resolve_walls`] bounces every disc that touches a wall and moves into it. Without it
+//! only integration meets the walls, once per substep, and the floor can hold up a stack
+//! only by the bounce of its bottom row: in a momentum-conserving model the whole pile then
+//! sinks at a steady speed that the pushes undo (measured: mean vy ≈ -0.6 in the settled
+//! shipped pile under `relative_normal_velocity`, a kinetic energy near 150).
 
 use crate::contacts::Contacts;
 use crate::context::StepContext;
+use crate::geometry::{Geometry, WallImpulse};
 use crate::law::Body;
-use crate::parallel::{SharedSlice, prefetch};
+use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::particles::Particles;
 
 /// How many contacts ahead the solver asks for the discs' cache lines.
@@ -87,4 +95,66 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
         virial += partial.iter().sum::<f64>();
     }
     virial
+}
+
+/// Walls as contacts of a solver pass: every disc touching a wall (its centre at most its
+/// radius from it, as [`Geometry::hold`] leaves pushed discs) and moving into it leaves with
+/// its normal velocity reversed and scaled by the walls' restitution, like a reflection in
+/// integration. Returns the momentum given to each wall, summed in chunk order.
+pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallImpulse {
+    let Geometry::Walls {
+        min,
+        max,
+        restitution: e,
+    } = ctx.geometry
+    else {
+        return WallImpulse::default();
+    };
+    let law = &ctx.law;
+    let (x, y, radius, mass) = (&p.x, &p.y, &p.radius, &p.mass);
+    let mut chunks: Vec<(usize, &mut [f64], &mut [f64])> =
+        p.vx.chunks_mut(CHUNK)
+            .zip(p.vy.chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (vx, vy))| (c * CHUNK, vx, vy))
+            .collect();
+    // One wall of one axis: the impulse on the low and the high wall.
+    let bounce = |position: f64, v: &mut f64, r: f64, m: f64, lo: f64, hi: f64| {
+        let into = if position <= lo + r && *v < 0.0 {
+            0
+        } else if position >= hi - r && *v > 0.0 {
+            1
+        } else {
+            return [0.0; 2];
+        };
+        let new_v = -*v * e;
+        let mut impulse = [0.0; 2];
+        impulse[into] = m * (new_v - *v).abs();
+        *v = new_v;
+        impulse
+    };
+    let partial = ctx
+        .exec
+        .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy)| {
+            let mut impulse = WallImpulse::default();
+            for (k, (vx, vy)) in vx.iter_mut().zip(vy.iter_mut()).enumerate() {
+                let i = *base + k;
+                let r = radius[i];
+                let m = law.mass(r, mass[i]);
+                let [left, right] = bounce(x[i], vx, r, m, min[0], max[0]);
+                let [bottom, top] = bounce(y[i], vy, r, m, min[1], max[1]);
+                impulse.add(&WallImpulse {
+                    left,
+                    right,
+                    bottom,
+                    top,
+                });
+            }
+            impulse
+        });
+    let mut total = WallImpulse::default();
+    for impulse in &partial {
+        total.add(impulse);
+    }
+    total
 }

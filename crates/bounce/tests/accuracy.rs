@@ -240,28 +240,34 @@ fn relative_pile(passes: u32, threads: usize) -> World {
     world
 }
 
-/// The largest overlap over the last 100 of 400 steps.
-fn settled_overlap(world: &mut World) -> f64 {
-    let mut worst = 0.0f64;
+/// The largest overlap and the mean kinetic energy over the last 100 of 400 steps.
+fn settled(world: &mut World) -> (f64, f64) {
+    let (mut worst, mut energy) = (0.0f64, 0.0);
     for step in 0..400 {
-        let overlap = world.step(1.0 / 60.0).unwrap().max_overlap;
+        let stats = world.step(1.0 / 60.0).unwrap();
         if step >= 300 {
-            worst = worst.max(overlap);
+            worst = worst.max(stats.max_overlap);
+            energy += stats.kinetic_energy / 100.0;
         }
     }
-    worst
+    (worst, energy)
 }
 
 #[test]
 fn more_solver_passes_keep_a_pile_from_compressing() {
     // Found by review: with the momentum-conserving model one pass per substep cannot take
     // the shared downward velocity out of a stack, and overlaps reach twice the smallest
-    // radius. More passes hand it down within the substep.
-    let one = settled_overlap(&mut relative_pile(1, 1));
-    let eight = settled_overlap(&mut relative_pile(8, 1));
+    // radius. More passes, each ending with the walls, hand it down within the substep.
+    let (one, one_energy) = settled(&mut relative_pile(1, 1));
+    let (eight, eight_energy) = settled(&mut relative_pile(8, 1));
+    let (sixteen, sixteen_energy) = settled(&mut relative_pile(16, 1));
     assert!(
-        eight < one / 3.0,
-        "largest overlap: 1 pass {one}, 8 passes {eight}"
+        eight < one / 3.0 && sixteen < one / 10.0,
+        "largest overlap: 1 pass {one}, 8 passes {eight}, 16 passes {sixteen}"
+    );
+    assert!(
+        eight_energy < one_energy / 3.0 && sixteen_energy < one_energy / 8.0,
+        "kinetic energy: 1 pass {one_energy}, 8 passes {eight_energy}, 16 {sixteen_energy}"
     );
     // Still the same bits for every thread count.
     let (mut a, mut b) = (relative_pile(4, 1), relative_pile(4, 3));

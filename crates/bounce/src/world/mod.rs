@@ -20,7 +20,7 @@ use crate::integrate::integrate;
 use crate::law::Law;
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
-use crate::resolve::resolve_all;
+use crate::resolve::{resolve_all, resolve_walls};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
 
 mod state;
@@ -255,6 +255,11 @@ impl World {
                 }
                 profile.pairs += clock.lap();
                 virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
+                if self.config.solver_iterations > 1 {
+                    stats
+                        .wall_impulse
+                        .add(&resolve_walls(&mut self.particles, &ctx));
+                }
                 profile.resolve += clock.lap();
             }
         }

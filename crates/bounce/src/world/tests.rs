@@ -115,3 +115,50 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         "{error}"
     );
 }
+
+#[test]
+fn later_solver_passes_meet_the_walls() {
+    // A disc resting on the floor is struck from above (equal radii, e = 1, wall
+    // restitution 0.5, no gravity, one substep of 0.1). By hand:
+    // integration: A stays at y = 1, B falls to 2.4; pass 1: overlap 0.6, A is pushed to
+    // 0.7 and held at 1.0, B to 2.7; the normal velocities swap: A -1, B 0.
+    // One pass ends there. With a second: the floor bounces A to +0.5 (impulse 1.5); pass 2
+    // finds the pair again (distance 1.7), pushes B to 2.85 (A is held at 1.0) and the
+    // approaching pair swaps again: A 0, B +0.5.
+    let run = |passes: u32| {
+        let mut world = World::new(Config {
+            boundary: Boundary::Walls {
+                min: [-10.0, 0.0],
+                max: [10.0, 10.0],
+                wall_restitution: Some(0.5),
+            },
+            solver_iterations: passes,
+            ..Config::default()
+        })
+        .unwrap();
+        let a = world
+            .add_particle(Particle::new([0.0, 1.0], [0.0, 0.0], 1.0))
+            .unwrap();
+        let b = world
+            .add_particle(Particle::new([0.0, 2.5], [0.0, -1.0], 1.0))
+            .unwrap();
+        let bottom = world.step(0.1).unwrap().wall_impulse.bottom;
+        let (a, b) = (world.particle(a).unwrap(), world.particle(b).unwrap());
+        (
+            a.position[1],
+            a.velocity[1],
+            b.position[1],
+            b.velocity[1],
+            bottom,
+        )
+    };
+    let close = |got: (f64, f64, f64, f64, f64), want: [f64; 5]| {
+        let got = [got.0, got.1, got.2, got.3, got.4];
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12),
+            "{got:?} != {want:?}"
+        );
+    };
+    close(run(1), [1.0, -1.0, 2.7, 0.0, 0.0]);
+    close(run(2), [1.0, 0.0, 2.85, 0.5, 1.5]);
+}
