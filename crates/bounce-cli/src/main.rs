@@ -1,7 +1,6 @@
 //! `bounce`: run scenarios headless, start new ones from templates, check files.
 
 mod checkpoint;
-mod gsd;
 mod plots;
 mod render;
 mod run;

@@ -21,7 +21,7 @@ use bounce_scenario::checkpoint::RunState;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
-use crate::gsd::GsdWriter;
+use bounce_scenario::gsd::GsdWriter;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
 use crate::stats_csv::{StatsCsv, Totals, read_history};

@@ -21,6 +21,8 @@ pub mod analysis;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod atomic;
 pub mod checkpoint;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod gsd;
 mod colour;
 pub mod palette;
 mod session;

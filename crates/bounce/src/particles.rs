@@ -13,8 +13,10 @@ use crate::geometry::Geometry;
 use crate::law::Law;
 use crate::parallel::{CHUNK, Executor};
 
-/// A particle's stable identity, assigned in order of addition from 0.
+/// A particle's stable identity, assigned in order of addition from 0. A `u32` in memory
+/// (`repr(transparent)`), so a slice of ids can be shared as `u32`s (the Python view does).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[repr(transparent)]
 pub struct ParticleId(pub u32);
 
 /// A pair of ids, the lower first.
@@ -95,6 +97,14 @@ pub enum ParticleError {
         velocity: [f64; 2],
         /// The disc's mass under the mass model.
         mass: f64,
+    },
+    /// A whole-world setter was given the wrong number of values.
+    #[error("{given} values for {expected} particles")]
+    WrongCount {
+        /// The world's particle count.
+        expected: usize,
+        /// How many were given.
+        given: usize,
     },
     /// The world already holds `u32::MAX` particles.
     #[error("too many particles: ids are 32-bit")]

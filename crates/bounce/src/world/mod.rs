@@ -411,6 +411,55 @@ impl World {
         Ok(())
     }
 
+    /// Moves every disc, `positions[k]` for id `k`, all or nothing: on the first position
+    /// the boundary does not admit (or not finite), returns its index and the error, and the
+    /// world is unchanged. Velocities and periodic image counts are kept.
+    pub fn set_positions(&mut self, positions: &[[f64; 2]]) -> Result<(), (usize, ParticleError)> {
+        self.set_each(positions, |particle, position| particle.position = position)?;
+        self.broadphase.invalidate();
+        Ok(())
+    }
+
+    /// Sets every disc's velocity, `velocities[k]` for id `k`, all or nothing: on the first
+    /// invalid one returns its index and the error, and the world is unchanged.
+    pub fn set_velocities(&mut self, velocities: &[[f64; 2]]) -> Result<(), (usize, ParticleError)> {
+        self.set_each(velocities, |particle, velocity| particle.velocity = velocity)
+    }
+
+    /// Validates `values` (one per id, in id order) applied by `apply`, then writes them.
+    fn set_each(
+        &mut self,
+        values: &[[f64; 2]],
+        apply: impl Fn(&mut Particle, [f64; 2]),
+    ) -> Result<(), (usize, ParticleError)> {
+        if values.len() != self.particles.len() {
+            return Err((
+                values.len().min(self.particles.len()),
+                ParticleError::WrongCount {
+                    expected: self.particles.len(),
+                    given: values.len(),
+                },
+            ));
+        }
+        let mut updated = Vec::with_capacity(values.len());
+        for (k, &value) in values.iter().enumerate() {
+            let i = self
+                .index_of(ParticleId(k as u32))
+                .ok_or((k, ParticleError::UnknownId(ParticleId(k as u32))))?;
+            let mut particle = self.particles.get(i).expect("an index from index_of");
+            apply(&mut particle, value);
+            particle.validate(&self.config).map_err(|e| (k, e))?;
+            updated.push((i, particle));
+        }
+        let p = &mut self.particles;
+        for (i, particle) in updated {
+            [p.x[i], p.y[i]] = particle.position;
+            [p.vx[i], p.vy[i]] = particle.velocity;
+        }
+        self.refresh_stats();
+        Ok(())
+    }
+
     /// Adds `delta_v` to the velocity of every particle whose centre lies within `radius` of
     /// `centre` (for interactive tools: a push). Returns how many were pushed; non-finite
     /// arguments push nothing.

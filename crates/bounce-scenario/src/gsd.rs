@@ -18,13 +18,19 @@
 //! - `particles/types` are the scenario's types (a table's `type`, else its colour, else
 //!   `A`); `typeid` gives each disc's.
 
-use std::io::{Seek, SeekFrom, Write};
+use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
 
-use anyhow::{Context, Result};
 use bounce::{Boundary, World};
 
-use bounce_scenario::atomic::AtomicFile;
+use crate::atomic::AtomicFile;
+
+type Result<T> = io::Result<T>;
+
+/// An error naming what was wrong.
+fn invalid(message: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidData, message)
+}
 
 const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
 const HEADER_SIZE: u64 = 256;
@@ -85,7 +91,7 @@ fn read_at(file: &mut std::fs::File, at: u64, len: u64) -> Result<Vec<u8>> {
     use std::io::Read;
     let size = file.metadata()?.len();
     if at.checked_add(len).is_none_or(|end| end > size) {
-        anyhow::bail!("a chunk runs past the end of the file");
+        return Err(invalid("a chunk runs past the end of the file".into()));
     }
     file.seek(SeekFrom::Start(at))?;
     let mut bytes = vec![0u8; len as usize];
@@ -98,7 +104,7 @@ fn read_layout(file: &mut std::fs::File) -> Result<(Vec<String>, Vec<RawEntry>)>
     let header = read_at(file, 0, HEADER_SIZE)?;
     let word = |at: usize| u64::from_le_bytes(header[at..at + 8].try_into().expect("8"));
     if word(0) != MAGIC {
-        anyhow::bail!("no GSD header");
+        return Err(invalid("no GSD header".into()));
     }
     let (index_location, allocated) = (word(8), word(16));
     let (names_location, name_blocks) = (word(24), word(32));
@@ -194,8 +200,8 @@ impl GsdWriter {
             return Ok(writer);
         };
         let name = path.display().to_string();
-        let (names, entries) =
-            read_layout(&mut old).with_context(|| format!("{name}: not a GSD file of bounce"))?;
+        let (names, entries) = read_layout(&mut old)
+            .map_err(|e| invalid(format!("{name}: not a GSD file of bounce: {e}")))?;
         // The step of each frame, from its `configuration/step` chunk.
         let step_id = names.iter().position(|n| n == "configuration/step");
         let mut frames_kept = 0u64;
@@ -213,12 +219,12 @@ impl GsdWriter {
         by_location.sort_by_key(|e| e.location);
         for e in by_location {
             let kind = Type::from_u8(e.kind)
-                .with_context(|| format!("{name}: unknown GSD type {}", e.kind))?;
+                .ok_or_else(|| invalid(format!("{name}: unknown GSD type {}", e.kind)))?;
             let len = e.n.saturating_mul(e.m as u64).saturating_mul(kind.size());
             let bytes = read_at(&mut old, e.location, len)?;
             let chunk_name = names
                 .get(e.id as usize)
-                .with_context(|| format!("{name}: a chunk without a name"))?
+                .ok_or_else(|| invalid(format!("{name}: a chunk without a name")))?
                 .clone();
             writer.frame = e.frame;
             writer.chunk(&chunk_name, kind, e.n, e.m, &bytes)?;
@@ -373,10 +379,9 @@ impl GsdWriter {
         text("hoomd", 64);
         header.resize(HEADER_SIZE as usize, 0);
         let w = self.file.writer();
-        w.seek(SeekFrom::Start(0))
-            .context("cannot write the GSD header")?;
+        w.seek(SeekFrom::Start(0))?;
         w.write_all(&header)?;
-        Ok(self.file.commit()?)
+        self.file.commit()
     }
 }
 

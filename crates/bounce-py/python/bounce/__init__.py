@@ -1,0 +1,22 @@
+"""bounce: a fast, faithful, deterministic 2D particle collision simulator.
+
+The same engine as the ``bounce`` command, driven from Python with NumPy arrays::
+
+    import numpy as np
+    import bounce
+
+    config = bounce.Config(boundary="walls", min=(0, 0), max=(50, 50))
+    world = bounce.World(config, dt=0.01)
+    world.add_discs(positions=[[10, 25], [40, 25]], velocities=[[5, 0], [-5, 0]], radii=1.0)
+    world.step(100)
+    print(world.positions, world.stats["kinetic_energy"])
+
+``World.from_scenario(path)`` runs the TOML scenarios of the command line with the same
+ids and bits: ``world.state_hash()`` after N steps equals the hash ``bounce run`` prints.
+
+Classes: :class:`Config`, :class:`World`, :class:`StorageView`, :class:`GSDWriter`.
+"""
+
+from ._native import Config, GSDWriter, StorageView, World, __version__
+
+__all__ = ["Config", "World", "StorageView", "GSDWriter", "__version__"]

@@ -1,0 +1,318 @@
+//! `bounce.Config`: the Rust [`bounce::Config`] with keyword arguments, validated on
+//! construction.
+
+use bounce::{Boundary, Config as RustConfig, MassModel, RestitutionModel, VelocityUpdate};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use serde::Deserialize;
+use serde::de::IntoDeserializer;
+
+/// The world's configuration: the seed's parameters, the boundary and the model options.
+///
+/// Every keyword is optional; the defaults are the seed's (an open world, no gravity,
+/// ``collision_radius_scale = 1``, ``coefficient_of_restitution = 1``, one substep, one
+/// solver pass, radii as masses, each normal velocity scaled by the restitution, every
+/// detected pair updated).
+///
+/// Keywords: ``collision_radius_scale``, ``coefficient_of_restitution``, ``gravity``
+/// (``(gx, gy)``), ``substeps``, ``solver_iterations``, ``max_travel`` (``None`` or a
+/// fraction of the smallest radius), ``boundary`` (``"open"``, ``"walls"`` or
+/// ``"periodic"``), ``min`` and ``max`` (the box corners, for walls and periodic),
+/// ``wall_restitution`` (``None``: the coefficient of restitution), ``mass_model``
+/// (``"radius"``, ``"area"``, ``"per_particle"``), ``restitution_model``
+/// (``"scale_each_normal_velocity"``, ``"relative_normal_velocity"``) and
+/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``).
+///
+/// Raises ``ValueError`` naming the field and the value when one is out of range, and
+/// ``TypeError`` for an unknown keyword or a value of the wrong type.
+#[pyclass(module = "bounce", name = "Config", frozen)]
+#[derive(Clone)]
+pub struct Config {
+    pub(crate) inner: RustConfig,
+}
+
+/// The scenario-file names of the model options.
+fn mass_model_name(m: MassModel) -> &'static str {
+    match m {
+        MassModel::Radius => "radius",
+        MassModel::Area => "area",
+        MassModel::PerParticle => "per_particle",
+    }
+}
+
+fn restitution_model_name(m: RestitutionModel) -> &'static str {
+    match m {
+        RestitutionModel::ScaleEachNormalVelocity => "scale_each_normal_velocity",
+        RestitutionModel::RelativeNormalVelocity => "relative_normal_velocity",
+    }
+}
+
+fn velocity_update_name(m: VelocityUpdate) -> &'static str {
+    match m {
+        VelocityUpdate::AllDetected => "all_detected",
+        VelocityUpdate::ApproachingOnly => "approaching_only",
+    }
+}
+
+/// A model option from its name, or a `ValueError` listing the choices.
+fn option<T: for<'de> Deserialize<'de>>(field: &str, name: &str, choices: &str) -> PyResult<T> {
+    T::deserialize(name.into_deserializer()).map_err(|_: serde::de::value::Error| {
+        PyValueError::new_err(format!(
+            "invalid config: `{field}` = {name:?}: must be one of {choices}"
+        ))
+    })
+}
+
+fn pair(field: &str, value: &Bound<'_, PyAny>) -> PyResult<[f64; 2]> {
+    value
+        .extract::<(f64, f64)>()
+        .map(|(a, b)| [a, b])
+        .or_else(|_| {
+            value
+                .extract::<Vec<f64>>()
+                .ok()
+                .and_then(|v| <[f64; 2]>::try_from(v).ok())
+                .ok_or(())
+        })
+        .map_err(|()| {
+            PyTypeError::new_err(format!("Config({field}=...): expected two numbers (x, y)"))
+        })
+}
+
+fn typed<'py, T: for<'a> FromPyObject<'a, 'py>>(
+    field: &str,
+    value: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<T> {
+    value.extract::<T>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "Config({field}=...): expected {what}, got {}",
+            value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))
+    })
+}
+
+#[pymethods]
+impl Config {
+    #[new]
+    #[pyo3(signature = (**kwargs))]
+    fn new(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut c = RustConfig::default();
+        let mut boundary = "open".to_string();
+        let (mut min, mut max, mut wall_restitution) = (None, None, None);
+        if let Some(kwargs) = kwargs {
+            for (key, value) in kwargs.iter() {
+                let key: String = key.extract()?;
+                let v = &value;
+                match key.as_str() {
+                    "collision_radius_scale" => {
+                        c.collision_radius_scale = typed(&key, v, "a number")?
+                    }
+                    "coefficient_of_restitution" => {
+                        c.coefficient_of_restitution = typed(&key, v, "a number")?
+                    }
+                    "gravity" => c.gravity = pair(&key, v)?,
+                    "substeps" => c.substeps = typed(&key, v, "a positive integer")?,
+                    "solver_iterations" => {
+                        c.solver_iterations = typed(&key, v, "a positive integer")?
+                    }
+                    "max_travel" => c.max_travel = typed(&key, v, "None or a number")?,
+                    "boundary" => boundary = typed(&key, v, "a string")?,
+                    "min" => min = Some(pair(&key, v)?),
+                    "max" => max = Some(pair(&key, v)?),
+                    "wall_restitution" => {
+                        wall_restitution = typed(&key, v, "None or a number")?
+                    }
+                    "mass_model" => {
+                        let name: String = typed(&key, v, "a string")?;
+                        c.mass_model = option::<MassModel>(
+                            &key,
+                            &name,
+                            "\"radius\", \"area\", \"per_particle\"",
+                        )?
+                    }
+                    "restitution_model" => {
+                        let name: String = typed(&key, v, "a string")?;
+                        c.restitution_model = option::<RestitutionModel>(
+                            &key,
+                            &name,
+                            "\"scale_each_normal_velocity\", \"relative_normal_velocity\"",
+                        )?
+                    }
+                    "velocity_update" => {
+                        let name: String = typed(&key, v, "a string")?;
+                        c.velocity_update = option::<VelocityUpdate>(
+                            &key,
+                            &name,
+                            "\"all_detected\", \"approaching_only\"",
+                        )?
+                    }
+                    _ => {
+                        return Err(PyTypeError::new_err(format!(
+                            "Config() got an unexpected keyword argument '{key}'"
+                        )));
+                    }
+                }
+            }
+        }
+        let corner = |field: &str, corner: Option<[f64; 2]>| {
+            corner.ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "invalid config: `{field}` is missing: boundary = {boundary:?} needs min and max"
+                ))
+            })
+        };
+        c.boundary = match boundary.as_str() {
+            "open" => Boundary::Open,
+            "walls" => Boundary::Walls {
+                min: corner("min", min)?,
+                max: corner("max", max)?,
+                wall_restitution,
+            },
+            "periodic" => Boundary::Periodic {
+                min: corner("min", min)?,
+                max: corner("max", max)?,
+            },
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "invalid config: `boundary` = {other:?}: must be one of \"open\", \"walls\", \"periodic\""
+                )));
+            }
+        };
+        if wall_restitution.is_some() && !matches!(c.boundary, Boundary::Walls { .. }) {
+            return Err(PyValueError::new_err(
+                "invalid config: `wall_restitution` needs boundary = \"walls\"",
+            ));
+        }
+        c.validate()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Config { inner: c })
+    }
+
+    /// The seed's ``collision_radius_scale``.
+    #[getter]
+    fn collision_radius_scale(&self) -> f64 {
+        self.inner.collision_radius_scale
+    }
+
+    /// The seed's ``COEFFICIENT_OF_RESTITUTION``.
+    #[getter]
+    fn coefficient_of_restitution(&self) -> f64 {
+        self.inner.coefficient_of_restitution
+    }
+
+    /// Uniform acceleration ``(gx, gy)``.
+    #[getter]
+    fn gravity(&self) -> (f64, f64) {
+        (self.inner.gravity[0], self.inner.gravity[1])
+    }
+
+    /// Substeps per step.
+    #[getter]
+    fn substeps(&self) -> u32 {
+        self.inner.substeps
+    }
+
+    /// Passes of detection and resolution per substep.
+    #[getter]
+    fn solver_iterations(&self) -> u32 {
+        self.inner.solver_iterations
+    }
+
+    /// Adaptive substeps: the farthest a disc may move per substep, as a fraction of the
+    /// smallest radius (``None``: fixed substeps).
+    #[getter]
+    fn max_travel(&self) -> Option<f64> {
+        self.inner.max_travel
+    }
+
+    /// ``"open"``, ``"walls"`` or ``"periodic"``.
+    #[getter]
+    pub(crate) fn boundary(&self) -> &'static str {
+        match self.inner.boundary {
+            Boundary::Open => "open",
+            Boundary::Walls { .. } => "walls",
+            Boundary::Periodic { .. } => "periodic",
+        }
+    }
+
+    /// The lower-left corner of the box (``None`` in an open world).
+    #[getter]
+    fn min(&self) -> Option<(f64, f64)> {
+        match self.inner.boundary {
+            Boundary::Walls { min, .. } | Boundary::Periodic { min, .. } => Some((min[0], min[1])),
+            Boundary::Open => None,
+        }
+    }
+
+    /// The upper-right corner of the box (``None`` in an open world).
+    #[getter]
+    fn max(&self) -> Option<(f64, f64)> {
+        match self.inner.boundary {
+            Boundary::Walls { max, .. } | Boundary::Periodic { max, .. } => Some((max[0], max[1])),
+            Boundary::Open => None,
+        }
+    }
+
+    /// The walls' restitution (``None``: the coefficient of restitution).
+    #[getter]
+    fn wall_restitution(&self) -> Option<f64> {
+        match self.inner.boundary {
+            Boundary::Walls {
+                wall_restitution, ..
+            } => wall_restitution,
+            _ => None,
+        }
+    }
+
+    /// The mass each disc has in collisions: ``"radius"`` (the seed's), ``"area"`` or
+    /// ``"per_particle"``.
+    #[getter]
+    fn mass_model(&self) -> &'static str {
+        mass_model_name(self.inner.mass_model)
+    }
+
+    /// ``"scale_each_normal_velocity"`` (the seed's) or ``"relative_normal_velocity"``.
+    #[getter]
+    fn restitution_model(&self) -> &'static str {
+        restitution_model_name(self.inner.restitution_model)
+    }
+
+    /// ``"all_detected"`` (the seed's) or ``"approaching_only"``.
+    #[getter]
+    fn velocity_update(&self) -> &'static str {
+        velocity_update_name(self.inner.velocity_update)
+    }
+
+    pub(crate) fn __repr__(&self) -> String {
+        let c = &self.inner;
+        let mut parts = vec![
+            format!("collision_radius_scale={:?}", c.collision_radius_scale),
+            format!("coefficient_of_restitution={:?}", c.coefficient_of_restitution),
+            format!("gravity=({:?}, {:?})", c.gravity[0], c.gravity[1]),
+            format!("substeps={}", c.substeps),
+            format!("solver_iterations={}", c.solver_iterations),
+        ];
+        if let Some(f) = c.max_travel {
+            parts.push(format!("max_travel={f:?}"));
+        }
+        parts.push(format!("boundary={:?}", self.boundary()));
+        if let (Some(min), Some(max)) = (self.min(), self.max()) {
+            parts.push(format!("min={min:?}, max={max:?}"));
+        }
+        if let Some(e) = self.wall_restitution() {
+            parts.push(format!("wall_restitution={e:?}"));
+        }
+        parts.push(format!("mass_model={:?}", self.mass_model()));
+        parts.push(format!("restitution_model={:?}", self.restitution_model()));
+        parts.push(format!("velocity_update={:?}", self.velocity_update()));
+        format!("bounce.Config({})", parts.join(", "))
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<Config>()
+            .is_ok_and(|o| o.get().inner == self.inner)
+    }
+}

@@ -1,0 +1,25 @@
+//! bounce for Python: the extension module `bounce._native`, re-exported by the package
+//! `bounce` (`python/bounce/__init__.py`).
+//!
+//! | file | owns |
+//! |---|---|
+//! | `config.rs` | `Config`: keyword arguments to the Rust `Config`, validated |
+//! | `world.rs` | `World`: NumPy in and out, `step` without the GIL, the storage view |
+//! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
+
+use pyo3::prelude::*;
+
+mod config;
+mod gsd;
+mod world;
+
+/// The compiled core of the `bounce` package.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<config::Config>()?;
+    m.add_class::<world::World>()?;
+    m.add_class::<world::StorageView>()?;
+    m.add_class::<gsd::GsdWriter>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,637 @@
+//! `bounce.World`: the Rust [`bounce::World`] with NumPy arrays in and out, stepping without
+//! the GIL, and the zero-copy storage view.
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use bounce::law::Law;
+use bounce::{Particle, ParticleId, World as RustWorld};
+use numpy::ndarray::{Array1, Array2, ArrayView1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::config::Config;
+use crate::gsd::GsdWriter;
+
+/// A world of discs: the simulation.
+///
+/// ``World(config=None, dt=None, threads=1)`` starts empty (``config`` defaults to
+/// ``bounce.Config()``, the seed's); ``World.from_scenario(path)`` builds the scenario file
+/// the ``bounce`` command runs, with the same ids; ``World.load(path)`` reads a checkpoint.
+///
+/// Arrays come out as NumPy copies in id order (``positions``, ``velocities``, ``radii``,
+/// ``masses``, ``ids``); ``storage_view()`` gives read-only arrays over the engine's own
+/// memory, without a copy, for hot loops. Results are bit-identical for every ``threads``.
+#[pyclass(module = "bounce", name = "World")]
+pub struct World {
+    /// The engine's world (a `Mutex` only because pyclasses must be `Sync`; `&mut self`
+    /// methods reach it without locking).
+    world: Mutex<RustWorld>,
+    /// The time step `step` uses when given none (a scenario's `time.dt`).
+    dt: Option<f64>,
+    /// Particle type names and each id's type, for GSD files.
+    pub(crate) types: Vec<String>,
+    pub(crate) typeid: Vec<u32>,
+    /// Storage views alive: while any is, the world refuses to change.
+    views: Arc<AtomicUsize>,
+    /// Trajectory writers fed by `step`.
+    writers: Vec<Py<GsdWriter>>,
+}
+
+/// The message of a world error, as Python's `ValueError`.
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// `value` as a C-contiguous float64 NumPy array (any array-like, any real dtype, any
+/// strides), with its shape checked against `shape` (`None` for any length).
+fn float_array<'py>(
+    py: Python<'py>,
+    name: &str,
+    value: &Bound<'py, PyAny>,
+    columns: Option<usize>,
+    rows: Option<usize>,
+) -> PyResult<(Vec<f64>, usize)> {
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", numpy.getattr("float64")?)?;
+    let array = numpy
+        .call_method("ascontiguousarray", (value,), Some(&kwargs))
+        .map_err(|e| {
+            PyValueError::new_err(format!("{name}: cannot be read as an array of numbers: {e}"))
+        })?;
+    let array = array.cast_into::<numpy::PyArrayDyn<f64>>()?;
+    let shape = array.shape().to_vec();
+    let expected = match columns {
+        Some(c) => format!("(N, {c})"),
+        None => "(N,)".to_string(),
+    };
+    let ok = match columns {
+        Some(c) => shape.len() == 2 && shape[1] == c,
+        None => shape.len() == 1,
+    };
+    if !ok {
+        return Err(PyValueError::new_err(format!(
+            "{name} must have shape {expected}; got {}",
+            shape_text(&shape)
+        )));
+    }
+    if let Some(rows) = rows
+        && shape[0] != rows
+    {
+        return Err(PyValueError::new_err(format!(
+            "{name} has {} rows; expected {rows}",
+            shape[0]
+        )));
+    }
+    let values = array.readonly().as_slice()?.to_vec();
+    Ok((values, shape[0]))
+}
+
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+impl World {
+    fn wrap(world: RustWorld, dt: Option<f64>, types: Vec<String>, typeid: Vec<u32>) -> World {
+        World {
+            world: Mutex::new(world),
+            dt,
+            types,
+            typeid,
+            views: Arc::new(AtomicUsize::new(0)),
+            writers: Vec::new(),
+        }
+    }
+
+    /// The world, to read.
+    pub(crate) fn get(&self) -> MutexGuard<'_, RustWorld> {
+        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The world, to change.
+    fn get_mut(&mut self) -> &mut RustWorld {
+        self.world.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Refuses a change while a storage view is alive (its arrays point into the storage).
+    fn check_unlocked(&self) -> PyResult<()> {
+        if self.views.load(Ordering::SeqCst) > 0 {
+            return Err(PyRuntimeError::new_err(
+                "a storage view of this world is still alive: leave its `with` block and drop \
+                 the arrays taken from it before changing the world",
+            ));
+        }
+        Ok(())
+    }
+
+    fn pairs_to_rows(values: Vec<f64>) -> Vec<[f64; 2]> {
+        values.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+    }
+
+    /// Writes a frame to every attached writer whose period divides the step count.
+    fn feed_writers(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.writers.retain(|w| !w.borrow(py).is_closed());
+        let world = self.get();
+        let step = world.step_count();
+        for writer in &self.writers {
+            let mut writer = writer.borrow_mut(py);
+            if step % writer.every == 0 {
+                writer.frame(&world, &self.types, &self.typeid)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl World {
+    #[new]
+    #[pyo3(signature = (config = None, dt = None, threads = 1))]
+    fn new(config: Option<PyRef<'_, Config>>, dt: Option<f64>, threads: usize) -> PyResult<Self> {
+        let config = config.map(|c| c.inner.clone()).unwrap_or_default();
+        let mut world = RustWorld::new(config).map_err(value_error)?;
+        world.set_threads(threads).map_err(value_error)?;
+        if let Some(dt) = dt
+            && !(dt.is_finite() && dt > 0.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "dt = {dt}: must be finite and > 0"
+            )));
+        }
+        Ok(World::wrap(world, dt, vec!["A".into()], Vec::new()))
+    }
+
+    /// The world a scenario file describes (the TOML the ``bounce`` command runs), discs
+    /// placed with the same ids; ``dt`` is the scenario's ``time.dt``. Raises
+    /// ``FileNotFoundError`` or ``ValueError`` naming the file, line and field.
+    #[staticmethod]
+    #[pyo3(signature = (path, threads = 1))]
+    fn from_scenario(path: PathBuf, threads: usize) -> PyResult<Self> {
+        if !path.exists() {
+            return Err(PyFileNotFoundError::new_err(format!(
+                "no scenario file {}",
+                path.display()
+            )));
+        }
+        let session = bounce_scenario::Session::load(&path).map_err(value_error)?;
+        let mut world = session.world;
+        world.set_threads(threads).map_err(value_error)?;
+        Ok(World::wrap(
+            world,
+            Some(session.dt),
+            session.types,
+            session.typeid,
+        ))
+    }
+
+    /// Reads a checkpoint written by ``save`` or by ``bounce run`` (``checkpoint.bin``).
+    #[staticmethod]
+    #[pyo3(signature = (path, dt = None, threads = 1))]
+    fn load(path: PathBuf, dt: Option<f64>, threads: usize) -> PyResult<Self> {
+        if !path.exists() {
+            return Err(PyFileNotFoundError::new_err(format!(
+                "no checkpoint {}",
+                path.display()
+            )));
+        }
+        let checkpoint = bounce_scenario::checkpoint::load(&path).map_err(value_error)?;
+        let mut world = checkpoint.world;
+        world.set_threads(threads).map_err(value_error)?;
+        Ok(World::wrap(world, dt, vec!["A".into()], Vec::new()))
+    }
+
+    /// Writes a checkpoint (the format ``bounce run --resume`` reads), atomically.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        bounce_scenario::checkpoint::save(&self.get(), None, &path).map_err(PyOSError::new_err)
+    }
+
+    /// Writes the current state as a one-frame GSD file (HOOMD's format).
+    fn write_gsd(&self, path: PathBuf) -> PyResult<()> {
+        let mut writer = bounce_scenario::gsd::GsdWriter::create(&path, &self.types, &self.typeid)?;
+        writer.frame(&self.get())?;
+        Ok(writer.finish()?)
+    }
+
+    /// Feeds ``writer`` a frame now (when its period divides the step count) and after
+    /// every step whose count it divides, until the writer is closed.
+    fn add_writer(&mut self, py: Python<'_>, writer: Py<GsdWriter>) -> PyResult<()> {
+        if self.writers.iter().any(|w| w.is(&writer)) {
+            return Ok(());
+        }
+        {
+            let mut w = writer.borrow_mut(py);
+            if w.is_closed() {
+                return Err(PyValueError::new_err("the GSD writer is closed"));
+            }
+            let world = self.get();
+            if world.step_count() % w.every == 0 {
+                w.frame(&world, &self.types, &self.typeid)?;
+            }
+        }
+        self.writers.push(writer);
+        Ok(())
+    }
+
+    /// Stops feeding ``writer`` (it stays open).
+    fn remove_writer(&mut self, writer: Py<GsdWriter>) {
+        self.writers.retain(|w| !w.is(&writer));
+    }
+
+    /// Adds discs: ``positions`` and ``velocities`` of shape (N, 2), ``radii`` of shape (N,)
+    /// or one number, ``masses`` (for ``mass_model = "per_particle"``) likewise or ``None``.
+    /// Any array-like of real numbers is accepted. All or nothing: a bad row raises
+    /// ``ValueError`` naming its index and the world is unchanged. Returns the new ids.
+    #[pyo3(signature = (positions, velocities, radii, masses = None))]
+    fn add_discs<'py>(
+        &mut self,
+        py: Python<'py>,
+        positions: &Bound<'py, PyAny>,
+        velocities: &Bound<'py, PyAny>,
+        radii: &Bound<'py, PyAny>,
+        masses: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        self.check_unlocked()?;
+        let (positions, n) = float_array(py, "positions", positions, Some(2), None)?;
+        let (velocities, _) = float_array(py, "velocities", velocities, Some(2), Some(n))?;
+        let per_disc = |name: &str, value: &Bound<'py, PyAny>| -> PyResult<Vec<f64>> {
+            if let Ok(v) = value.extract::<f64>() {
+                return Ok(vec![v; n]);
+            }
+            Ok(float_array(py, name, value, None, Some(n))?.0)
+        };
+        let radii = per_disc("radii", radii)?;
+        let masses = masses.map(|m| per_disc("masses", m)).transpose()?;
+        let discs = (0..n).map(|k| Particle {
+            position: [positions[2 * k], positions[2 * k + 1]],
+            velocity: [velocities[2 * k], velocities[2 * k + 1]],
+            radius: radii[k],
+            mass: masses.as_ref().map(|m| m[k]),
+        });
+        let ids = self
+            .get_mut()
+            .add_particles(discs)
+            .map_err(|(k, e)| PyValueError::new_err(format!("disc {k}: {e}")))?;
+        // New discs take the first type, as the CLI gives discs without one.
+        Ok(Array1::from_iter(ids.iter().map(|id| id.0)).into_pyarray(py))
+    }
+
+    /// Advances ``n`` steps of ``dt`` (default: the world's ``dt``), without the GIL: other
+    /// Python threads run meanwhile. Ctrl-C raises ``KeyboardInterrupt`` between steps,
+    /// the world left after a whole step. Attached GSD writers get their frames.
+    #[pyo3(signature = (n = 1, dt = None))]
+    fn step(&mut self, py: Python<'_>, n: u64, dt: Option<f64>) -> PyResult<()> {
+        self.check_unlocked()?;
+        let dt = dt.or(self.dt).ok_or_else(|| {
+            PyValueError::new_err(
+                "step() needs dt: this world has none (give World(..., dt=...) or step(dt=...))",
+            )
+        })?;
+        for _ in 0..n {
+            let world = self.world.get_mut().unwrap_or_else(|e| e.into_inner());
+            py.detach(|| world.step(dt).map(|_| ()))
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            py.check_signals()?;
+            if !self.writers.is_empty() {
+                self.feed_writers(py)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The configuration.
+    #[getter]
+    fn config(&self) -> Config {
+        Config {
+            inner: self.get().config().clone(),
+        }
+    }
+
+    /// The time step ``step`` uses by default (``None`` when there is none).
+    #[getter]
+    fn dt(&self) -> Option<f64> {
+        self.dt
+    }
+
+    #[setter]
+    fn set_dt(&mut self, dt: Option<f64>) -> PyResult<()> {
+        if let Some(dt) = dt
+            && !(dt.is_finite() && dt > 0.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "dt = {dt}: must be finite and > 0"
+            )));
+        }
+        self.dt = dt;
+        Ok(())
+    }
+
+    /// Worker threads of the step (results are the same bits for any count).
+    #[getter]
+    fn threads(&self) -> usize {
+        self.get().threads()
+    }
+
+    #[setter]
+    fn set_threads(&mut self, threads: usize) -> PyResult<()> {
+        self.get_mut().set_threads(threads).map_err(value_error)
+    }
+
+    /// Simulated time.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.get().time()
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn step_count(&self) -> u64 {
+        self.get().step_count()
+    }
+
+    /// What the last step measured, as a dict: ``kinetic_energy``, ``momentum`` (px, py),
+    /// ``collisions`` (pairs resolved), ``wall_impulse`` (a dict per wall), ``max_overlap``,
+    /// ``virial``, ``pressure`` (``None`` in an open world) and ``substeps``.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let world = self.get();
+        let s = world.stats();
+        let d = PyDict::new(py);
+        d.set_item("kinetic_energy", s.kinetic_energy)?;
+        d.set_item("momentum", (s.momentum[0], s.momentum[1]))?;
+        d.set_item("collisions", s.pairs)?;
+        let walls = PyDict::new(py);
+        walls.set_item("left", s.wall_impulse.left)?;
+        walls.set_item("right", s.wall_impulse.right)?;
+        walls.set_item("bottom", s.wall_impulse.bottom)?;
+        walls.set_item("top", s.wall_impulse.top)?;
+        d.set_item("wall_impulse", walls)?;
+        d.set_item("max_overlap", s.max_overlap)?;
+        d.set_item("virial", s.virial)?;
+        d.set_item("pressure", s.pressure)?;
+        d.set_item("substeps", s.substeps)?;
+        Ok(d)
+    }
+
+    /// A 64-bit hash of the state (ids, positions, velocities, radii bit for bit, and the
+    /// step count): the one ``bounce run`` prints.
+    fn state_hash(&self) -> u64 {
+        self.get().state_hash()
+    }
+
+    /// Positions, shape (N, 2), in id order (a copy). Settable: all rows are checked
+    /// against the boundary first; a bad row raises naming its index, nothing changes.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        let world = self.get();
+        let p = world.particles();
+        let values = by_id(&world, |i| [p.x()[i], p.y()[i]]);
+        rows(py, values, 2)
+    }
+
+    #[setter]
+    fn set_positions(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_unlocked()?;
+        let n = self.get().len();
+        let (values, _) = float_array(py, "positions", value, Some(2), Some(n))?;
+        self.get_mut()
+            .set_positions(&World::pairs_to_rows(values))
+            .map_err(|(k, e)| PyValueError::new_err(format!("disc {k}: {e}")))
+    }
+
+    /// Velocities, shape (N, 2), in id order (a copy). Settable like ``positions``.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        let world = self.get();
+        let p = world.particles();
+        let values = by_id(&world, |i| [p.vx()[i], p.vy()[i]]);
+        rows(py, values, 2)
+    }
+
+    #[setter]
+    fn set_velocities(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_unlocked()?;
+        let n = self.get().len();
+        let (values, _) = float_array(py, "velocities", value, Some(2), Some(n))?;
+        self.get_mut()
+            .set_velocities(&World::pairs_to_rows(values))
+            .map_err(|(k, e)| PyValueError::new_err(format!("disc {k}: {e}")))
+    }
+
+    /// Radii, shape (N,), in id order (a copy).
+    #[getter]
+    fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let world = self.get();
+        let p = world.particles();
+        Array1::from(by_id(&world, |i| [p.radius()[i]])).into_pyarray(py)
+    }
+
+    /// Masses under the configured mass model, shape (N,), in id order (a copy).
+    #[getter]
+    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let world = self.get();
+        let p = world.particles();
+        let law = Law::new(world.config());
+        let m = p.per_particle_mass();
+        Array1::from(by_id(&world, |i| [law.mass(p.radius()[i], m[i])])).into_pyarray(py)
+    }
+
+    /// Ids, shape (N,): ``0 .. N-1``, the order of every id-ordered array.
+    #[getter]
+    fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        Array1::from_iter(0..self.get().len() as u32).into_pyarray(py)
+    }
+
+    /// Read-only arrays over the engine's own memory, in storage order, without a copy:
+    /// ``x``, ``y``, ``vx``, ``vy``, ``radius`` (float64) and ``ids`` (uint32, the id of
+    /// each storage slot). Storage order changes when the world steps, so while the view or
+    /// any array taken from it is alive the world refuses to step or change (``RuntimeError``).
+    /// Use it as a context manager::
+    ///
+    ///     with world.storage_view() as v:
+    ///         speed2 = v.vx**2 + v.vy**2
+    fn storage_view(slf: &Bound<'_, World>) -> PyResult<StorageView> {
+        let py = slf.py();
+        let this = slf.borrow();
+        let guard = Bound::new(
+            py,
+            ViewGuard::new(this.views.clone(), slf.clone().unbind()),
+        )?
+        .into_any();
+        let world = this.get();
+        let p = world.particles();
+        let view = |values: &[f64]| -> PyResult<Py<PyAny>> {
+            // SAFETY: the array borrows the world's storage, which neither moves nor changes
+            // while `guard` (its base object) lives: every changing method checks the count
+            // `guard` holds up, and `guard` keeps the world object alive.
+            let array = unsafe { PyArray1::borrow_from_array(&ArrayView1::from(values), guard.clone()) };
+            read_only(&array)?;
+            Ok(array.into_any().unbind())
+        };
+        // SAFETY: `ParticleId` is `repr(transparent)` over `u32`.
+        let ids: &[u32] =
+            unsafe { std::slice::from_raw_parts(p.ids().as_ptr().cast::<u32>(), p.len()) };
+        // SAFETY: as for `view`.
+        let ids = unsafe { PyArray1::borrow_from_array(&ArrayView1::from(ids), guard.clone()) };
+        read_only(&ids)?;
+        Ok(StorageView {
+            arrays: Some([
+                view(p.x())?,
+                view(p.y())?,
+                view(p.vx())?,
+                view(p.vy())?,
+                view(p.radius())?,
+                ids.into_any().unbind(),
+            ]),
+        })
+    }
+
+    fn __len__(&self) -> usize {
+        self.get().len()
+    }
+
+    fn __repr__(&self) -> String {
+        let world = self.get();
+        format!(
+            "bounce.World({} discs, step {}, time {:?}, {})",
+            world.len(),
+            world.step_count(),
+            world.time(),
+            Config {
+                inner: world.config().clone()
+            }
+            .__repr__()
+        )
+    }
+}
+
+/// Gathers `f(i)` for each id in order, `W` values per disc.
+fn by_id<const W: usize>(world: &RustWorld, f: impl Fn(usize) -> [f64; W]) -> Vec<f64> {
+    let n = world.len();
+    let mut out = Vec::with_capacity(n * W);
+    for id in 0..n as u32 {
+        let i = world
+            .index_of(ParticleId(id))
+            .expect("ids run from 0 without gaps");
+        out.extend_from_slice(&f(i));
+    }
+    out
+}
+
+/// `values` (row-major, `width` per row) as an (N, width) array, without a copy.
+fn rows(py: Python<'_>, values: Vec<f64>, width: usize) -> Bound<'_, numpy::PyArray2<f64>> {
+    let n = values.len() / width;
+    Array2::from_shape_vec((n, width), values)
+        .expect("whole rows")
+        .into_pyarray(py)
+}
+
+fn read_only<T>(array: &Bound<'_, T>) -> PyResult<()> {
+    let array = array.as_any();
+    let py = array.py();
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("write", false)?;
+    array.call_method("setflags", (), Some(&kwargs))?;
+    Ok(())
+}
+
+/// Holds a world unchanged while arrays of a storage view are alive (it is their base).
+#[pyclass(module = "bounce", frozen)]
+struct ViewGuard {
+    views: Arc<AtomicUsize>,
+    _world: Py<World>,
+}
+
+impl ViewGuard {
+    fn new(views: Arc<AtomicUsize>, world: Py<World>) -> Self {
+        views.fetch_add(1, Ordering::SeqCst);
+        ViewGuard {
+            views,
+            _world: world,
+        }
+    }
+}
+
+impl Drop for ViewGuard {
+    fn drop(&mut self) {
+        self.views.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Read-only arrays over a world's storage (see ``World.storage_view``).
+#[pyclass(module = "bounce", name = "StorageView")]
+pub struct StorageView {
+    arrays: Option<[Py<PyAny>; 6]>,
+}
+
+impl StorageView {
+    fn array(&self, py: Python<'_>, k: usize) -> PyResult<Py<PyAny>> {
+        self.arrays
+            .as_ref()
+            .map(|a| a[k].clone_ref(py))
+            .ok_or_else(|| PyRuntimeError::new_err("the storage view was closed"))
+    }
+}
+
+#[pymethods]
+impl StorageView {
+    /// x of each storage slot.
+    #[getter]
+    fn x(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 0)
+    }
+    /// y of each storage slot.
+    #[getter]
+    fn y(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 1)
+    }
+    /// vx of each storage slot.
+    #[getter]
+    fn vx(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 2)
+    }
+    /// vy of each storage slot.
+    #[getter]
+    fn vy(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 3)
+    }
+    /// Radius of each storage slot.
+    #[getter]
+    fn radius(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 4)
+    }
+    /// The id in each storage slot.
+    #[getter]
+    fn ids(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 5)
+    }
+
+    fn __enter__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    /// Drops the view's arrays (arrays taken from it still hold the world).
+    #[pyo3(signature = (*_args))]
+    fn __exit__(&mut self, _args: &Bound<'_, pyo3::types::PyTuple>) -> bool {
+        self.close();
+        false
+    }
+
+    /// Drops the view's arrays, as leaving its ``with`` block does.
+    fn close(&mut self) {
+        self.arrays = None;
+    }
+}
