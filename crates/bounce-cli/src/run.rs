@@ -21,10 +21,10 @@ use bounce_scenario::checkpoint::RunState;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
-use bounce_scenario::gsd::GsdWriter;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
 use crate::stats_csv::{StatsCsv, Totals, read_history};
+use bounce_scenario::gsd::GsdWriter;
 
 /// What `bounce run` was asked to do.
 pub struct RunArgs {

@@ -121,9 +121,7 @@ impl Config {
                     "boundary" => boundary = typed(&key, v, "a string")?,
                     "min" => min = Some(pair(&key, v)?),
                     "max" => max = Some(pair(&key, v)?),
-                    "wall_restitution" => {
-                        wall_restitution = typed(&key, v, "None or a number")?
-                    }
+                    "wall_restitution" => wall_restitution = typed(&key, v, "None or a number")?,
                     "mass_model" => {
                         let name: String = typed(&key, v, "a string")?;
                         c.mass_model = option::<MassModel>(
@@ -289,7 +287,10 @@ impl Config {
         let c = &self.inner;
         let mut parts = vec![
             format!("collision_radius_scale={:?}", c.collision_radius_scale),
-            format!("coefficient_of_restitution={:?}", c.coefficient_of_restitution),
+            format!(
+                "coefficient_of_restitution={:?}",
+                c.coefficient_of_restitution
+            ),
             format!("gravity=({:?}, {:?})", c.gravity[0], c.gravity[1]),
             format!("substeps={}", c.substeps),
             format!("solver_iterations={}", c.solver_iterations),

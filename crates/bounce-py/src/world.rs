@@ -2,8 +2,8 @@
 //! the GIL, and the zero-copy storage view.
 
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, MutexGuard};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use bounce::law::Law;
 use bounce::{Particle, ParticleId, World as RustWorld};
@@ -61,7 +61,9 @@ fn float_array<'py>(
     let array = numpy
         .call_method("ascontiguousarray", (value,), Some(&kwargs))
         .map_err(|e| {
-            PyValueError::new_err(format!("{name}: cannot be read as an array of numbers: {e}"))
+            PyValueError::new_err(format!(
+                "{name}: cannot be read as an array of numbers: {e}"
+            ))
         })?;
     let array = array.cast_into::<numpy::PyArrayDyn<f64>>()?;
     let shape = array.shape().to_vec();
@@ -149,7 +151,7 @@ impl World {
         let step = world.step_count();
         for writer in &self.writers {
             let mut writer = writer.borrow_mut(py);
-            if step % writer.every == 0 {
+            if step.is_multiple_of(writer.every) {
                 writer.frame(&world, &self.types, &self.typeid)?;
             }
         }
@@ -238,7 +240,7 @@ impl World {
                 return Err(PyValueError::new_err("the GSD writer is closed"));
             }
             let world = self.get();
-            if world.step_count() % w.every == 0 {
+            if world.step_count().is_multiple_of(w.every) {
                 w.frame(&world, &self.types, &self.typeid)?;
             }
         }
@@ -386,6 +388,24 @@ impl World {
         Ok(d)
     }
 
+    /// Wall-clock seconds of each stage of the last step, measured inside the engine:
+    /// ``integrate``, ``bin`` (broadphase upkeep), ``pairs``, ``resolve``, ``measure``,
+    /// ``total``, and ``rebuilds`` (substeps that rebuilt the candidate list).
+    #[getter]
+    fn profile<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let world = self.get();
+        let p = world.profile();
+        let d = PyDict::new(py);
+        d.set_item("integrate", p.integrate)?;
+        d.set_item("bin", p.bin)?;
+        d.set_item("pairs", p.pairs)?;
+        d.set_item("resolve", p.resolve)?;
+        d.set_item("measure", p.measure)?;
+        d.set_item("total", p.total())?;
+        d.set_item("rebuilds", p.rebuilds)?;
+        Ok(d)
+    }
+
     /// A 64-bit hash of the state (ids, positions, velocities, radii bit for bit, and the
     /// step count): the one ``bounce run`` prints.
     fn state_hash(&self) -> u64 {
@@ -466,18 +486,16 @@ impl World {
     fn storage_view(slf: &Bound<'_, World>) -> PyResult<StorageView> {
         let py = slf.py();
         let this = slf.borrow();
-        let guard = Bound::new(
-            py,
-            ViewGuard::new(this.views.clone(), slf.clone().unbind()),
-        )?
-        .into_any();
+        let guard =
+            Bound::new(py, ViewGuard::new(this.views.clone(), slf.clone().unbind()))?.into_any();
         let world = this.get();
         let p = world.particles();
         let view = |values: &[f64]| -> PyResult<Py<PyAny>> {
             // SAFETY: the array borrows the world's storage, which neither moves nor changes
             // while `guard` (its base object) lives: every changing method checks the count
             // `guard` holds up, and `guard` keeps the world object alive.
-            let array = unsafe { PyArray1::borrow_from_array(&ArrayView1::from(values), guard.clone()) };
+            let array =
+                unsafe { PyArray1::borrow_from_array(&ArrayView1::from(values), guard.clone()) };
             read_only(&array)?;
             Ok(array.into_any().unbind())
         };

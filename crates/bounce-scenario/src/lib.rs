@@ -21,9 +21,9 @@ pub mod analysis;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod atomic;
 pub mod checkpoint;
+mod colour;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod gsd;
-mod colour;
 pub mod palette;
 mod session;
 pub use colour::{Rgb, parse_colour, ramp};

@@ -1,7 +1,7 @@
 """Type stubs for bounce (the compiled module ``bounce._native``)."""
 
 from os import PathLike
-from typing import Literal, Optional, Tuple, TypedDict, Union
+from typing import Dict, Literal, Optional, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -144,6 +144,8 @@ class World:
     def step_count(self) -> int: ...
     @property
     def stats(self) -> Stats: ...
+    @property
+    def profile(self) -> Dict[str, float]: ...
     def state_hash(self) -> int: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...

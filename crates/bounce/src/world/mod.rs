@@ -422,8 +422,13 @@ impl World {
 
     /// Sets every disc's velocity, `velocities[k]` for id `k`, all or nothing: on the first
     /// invalid one returns its index and the error, and the world is unchanged.
-    pub fn set_velocities(&mut self, velocities: &[[f64; 2]]) -> Result<(), (usize, ParticleError)> {
-        self.set_each(velocities, |particle, velocity| particle.velocity = velocity)
+    pub fn set_velocities(
+        &mut self,
+        velocities: &[[f64; 2]],
+    ) -> Result<(), (usize, ParticleError)> {
+        self.set_each(velocities, |particle, velocity| {
+            particle.velocity = velocity
+        })
     }
 
     /// Validates `values` (one per id, in id order) applied by `apply`, then writes them.

@@ -1,0 +1,48 @@
+"""The Python examples run (small) and reach what they claim."""
+
+import json
+import subprocess
+import sys
+
+EXAMPLES = __import__("conftest").ROOT / "examples" / "python"
+
+
+def run(script, out):
+    done = subprocess.run(
+        [sys.executable, str(EXAMPLES / script), "--quick", "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout
+
+
+def test_the_equation_of_state_sweep_follows_theory_and_finds_contact(tmp_path):
+    run("eos_sweep.py", tmp_path)
+    result = json.loads((tmp_path / "eos.json").read_text())
+    for point in result["eos"]:
+        # Short runs: within four standard errors and 2 % of Henderson's equation of state.
+        gap = abs(point["z"] - point["henderson"])
+        assert gap < 4 * point["err"] + 0.02 * point["henderson"], point
+    assert 0.98 < result["rdf_peak"] < 1.1  # g(r) peaks at contact, r = σ
+    assert (tmp_path / "eos.png").stat().st_size > 10_000
+    assert (tmp_path / "dense.gsd").exists()
+
+
+def test_the_teaching_example_relaxes_to_maxwell_boltzmann(tmp_path):
+    run("maxwell_boltzmann.py", tmp_path)
+    history = json.loads((tmp_path / "maxwell_boltzmann.json").read_text())
+    assert history[0]["ks"] > 0.5  # all at one speed: far from the law
+    assert history[-1]["ks"] < 0.04  # 2,000 discs: KS noise is about 0.02
+    assert (tmp_path / "maxwell_boltzmann.png").stat().st_size > 10_000
+
+
+def test_the_overhead_measurement_runs(tmp_path):
+    done = subprocess.run(
+        [sys.executable, str(EXAMPLES / "overhead.py"), "--sizes", "1000", "--steps", "5"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    row = done.stdout.strip().splitlines()[-1].split("|")
+    assert row[0].strip() == "1000" and len(row) == 6
