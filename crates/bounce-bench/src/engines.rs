@@ -11,25 +11,36 @@ use crate::scenes::Setup;
 pub enum Engine {
     Bounce1,
     Bounce2,
-    Rapier,
-    Box2d,
+    Rapier1,
+    Rapier2,
+    Box2d1,
+    Box2d2,
 }
 
 impl Engine {
-    pub const ALL: [Engine; 4] = [
+    pub const ALL: [Engine; 6] = [
         Engine::Bounce1,
         Engine::Bounce2,
-        Engine::Rapier,
-        Engine::Box2d,
+        Engine::Rapier1,
+        Engine::Rapier2,
+        Engine::Box2d1,
+        Engine::Box2d2,
     ];
 
     pub fn name(&self) -> &'static str {
         match self {
             Engine::Bounce1 => "bounce (1 thread)",
             Engine::Bounce2 => "bounce (2 threads)",
-            Engine::Rapier => "rapier2d 0.36 (2 threads)",
-            Engine::Box2d => "Box2D v3 / boxdd 0.6 (2 workers)",
+            Engine::Rapier1 => "rapier2d 0.36 (1 thread)",
+            Engine::Rapier2 => "rapier2d 0.36 (2 threads)",
+            Engine::Box2d1 => "Box2D v3 / boxdd 0.6 (1 worker)",
+            Engine::Box2d2 => "Box2D v3 / boxdd 0.6 (2 workers)",
         }
+    }
+
+    /// Whether this is bounce (the peers are skipped where they cannot run).
+    pub fn is_bounce(&self) -> bool {
+        matches!(self, Engine::Bounce1 | Engine::Bounce2)
     }
 
     pub fn parse(name: &str) -> Result<Self> {
@@ -45,8 +56,10 @@ impl Engine {
         Ok(match self {
             Engine::Bounce1 => Box::new(BounceSim::new(setup, 1)?),
             Engine::Bounce2 => Box::new(BounceSim::new(setup, 2)?),
-            Engine::Rapier => Box::new(RapierSim::new(&setup)),
-            Engine::Box2d => Box::new(Box2dSim::new(&setup)?),
+            Engine::Rapier1 => Box::new(RapierSim::new(&setup, 1)?),
+            Engine::Rapier2 => Box::new(RapierSim::new(&setup, 2)?),
+            Engine::Box2d1 => Box::new(Box2dSim::new(&setup, 1)?),
+            Engine::Box2d2 => Box::new(Box2dSim::new(&setup, 2)?),
         })
     }
 }
@@ -57,6 +70,11 @@ pub trait Sim {
     fn step_timed(&mut self) -> f64;
     /// What differs from bounce's physics.
     fn note(&self) -> String;
+    /// Seconds in each stage of the last step (integrate, bin, pairs, resolve, measure) and
+    /// the substeps that rebuilt the candidate list: bounce only.
+    fn stages(&self) -> Option<([f64; 5], usize)> {
+        None
+    }
 }
 
 fn timed(f: impl FnOnce()) -> f64 {
@@ -113,14 +131,24 @@ impl Sim for BounceSim {
     fn note(&self) -> String {
         "seed model, f64".into()
     }
+
+    fn stages(&self) -> Option<([f64; 5], usize)> {
+        let p = self.world.profile();
+        Some((
+            [p.integrate, p.bin, p.pairs, p.resolve, p.measure],
+            p.rebuilds,
+        ))
+    }
 }
 
 struct RapierSim {
     world: rapier2d::prelude::PhysicsWorld,
+    /// Rapier's `parallel` feature runs on the current rayon pool: this one sets the threads.
+    pool: rayon::ThreadPool,
 }
 
 impl RapierSim {
-    fn new(setup: &Setup) -> Self {
+    fn new(setup: &Setup, threads: usize) -> Result<Self> {
         use rapier2d::prelude::*;
         let mut world = PhysicsWorld {
             gravity: Vector::new(setup.gravity[0] as f32, setup.gravity[1] as f32),
@@ -164,13 +192,17 @@ impl RapierSim {
                 .build();
             world.colliders.insert(wall);
         }
-        RapierSim { world }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        Ok(RapierSim { world, pool })
     }
 }
 
 impl Sim for RapierSim {
     fn step_timed(&mut self) -> f64 {
-        timed(|| self.world.step())
+        let (world, pool) = (&mut self.world, &self.pool);
+        timed(|| pool.install(|| world.step()))
     }
 
     fn note(&self) -> String {
@@ -185,7 +217,7 @@ struct Box2dSim {
 }
 
 impl Box2dSim {
-    fn new(setup: &Setup) -> Result<Self> {
+    fn new(setup: &Setup, workers: usize) -> Result<Self> {
         use boxdd::{
             BodyBuilder, BodyType, Foundation, Position, ShapeDef, SurfaceMaterial, Vec2,
             WorkerCount, WorldBuilder, shapes,
@@ -195,7 +227,7 @@ impl Box2dSim {
             .gravity(Vec2::new(setup.gravity[0] as f32, setup.gravity[1] as f32))
             .enable_sleep(false)
             .restitution_threshold(0.0)
-            .worker_count(WorkerCount::new(2).map_err(|e| anyhow!("{e:?}"))?)
+            .worker_count(WorkerCount::new(workers as u32).map_err(|e| anyhow!("{e:?}"))?)
             .build()
             .map_err(|e| anyhow!("{e:?}"))?;
         let mut world = foundation.create_world(def).map_err(|e| anyhow!("{e:?}"))?;

@@ -1,15 +1,17 @@
 //! `bounce-bench`: the same scenes, from the same initial state, in bounce, rapier2d and
 //! Box2D v3 (through `boxdd`), side by side in one run.
 //!
-//! `cargo run --release -p bounce-bench -- [--quick] [--out DIR]` prints a Markdown table
-//! (median and mean ms per step, particle-steps per second, ratio to bounce, peak memory) and writes
-//! `DIR/bench.csv` and `DIR/bench.png` (ns per particle-step against N). Each engine and scene
-//! runs in a child process of its own, so the peak resident memory it reports is that run's.
+//! `cargo run --release -p bounce-bench -- [--quick] [--out DIR] [--scenes a,b]` prints
+//! Markdown tables and writes `DIR/bench.csv` and `DIR/bench.png` (ns per particle-step
+//! against N). Every figure leads with the **mean** over all timed steps (at least 200; the
+//! steps that rebuild bounce's candidate list included), with the 99th percentile and the
+//! median beside it. Each engine and scene runs in a child process of its own, so the peak
+//! resident memory it reports is that run's. The machine is read from the system.
 
 mod engines;
 mod scenes;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
@@ -17,6 +19,14 @@ use clap::{Parser, Subcommand};
 
 use crate::engines::Engine;
 use crate::scenes::SceneKind;
+
+/// Steps timed per run (after the warm-up).
+const STEPS: usize = 200;
+/// Steps timed per run with `--quick`.
+const QUICK_STEPS: usize = 10;
+/// Warm-up steps: a settled pile re-settles in each engine's own way first.
+const WARM_UP: usize = 4;
+const PILE_WARM_UP: usize = 30;
 
 #[derive(Parser)]
 #[command(about = "bounce against rapier2d and Box2D v3 on the same scenes")]
@@ -26,12 +36,15 @@ struct Cli {
     /// Fewer measured steps (a quick look, not for the record).
     #[arg(long)]
     quick: bool,
-    /// Where bench.csv and bench.png go.
+    /// Where bench.csv, bench.png and the settled piles go.
     #[arg(long, default_value = "target/bench")]
     out: PathBuf,
-    /// Only these scenes (gas-10k, gas-100k, gas-1m, pile-100k, poly-100k).
+    /// Only these scenes (see `SceneKind::ALL`: gas-10k ... fast-gas-1m).
     #[arg(long, value_delimiter = ',')]
     scenes: Vec<String>,
+    /// Only bounce (no peers).
+    #[arg(long)]
+    bounce_only: bool,
 }
 
 #[derive(Subcommand)]
@@ -44,21 +57,25 @@ enum Cmd {
         scene: String,
         #[arg(long)]
         quick: bool,
+        #[arg(long)]
+        cache: PathBuf,
     },
 }
 
 /// One measured run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct Row {
     scene: String,
     n: usize,
     engine: String,
-    /// `None` when skipped (a step took over 2 s).
-    median_ms: Option<f64>,
-    /// Mean over the same steps: bounce rebuilds its candidate list every few steps, so the
-    /// median alone would hide that cost.
+    /// Mean ms per step over every timed step (`None` when skipped or failed).
     mean_ms: Option<f64>,
+    p99_ms: Option<f64>,
+    median_ms: Option<f64>,
     peak_mb: f64,
+    /// bounce's mean ms per stage (integrate, bin, pairs, resolve, measure) and the share of
+    /// steps with a rebuild.
+    stages: Option<([f64; 5], f64)>,
     note: String,
 }
 
@@ -69,7 +86,8 @@ fn main() -> Result<()> {
             engine,
             scene,
             quick,
-        }) => return one(&engine, &scene, quick),
+            cache,
+        }) => return one(&engine, &scene, quick, &cache),
         Some(Cmd::Plot { csv, png }) => return plot(&read_csv(&csv)?, &png),
         None => {}
     }
@@ -81,17 +99,32 @@ fn main() -> Result<()> {
             .map(|s| SceneKind::parse(s))
             .collect::<Result<_>>()?
     };
+    let machine = Machine::read();
+    eprintln!("{}", machine.line());
+    let cache = cli.out.join("cache");
     let exe = std::env::current_exe()?;
     let mut rows = Vec::new();
     for scene in &scenes {
+        scene.settle(&cache)?;
         for engine in Engine::ALL {
+            if !engine.is_bounce() && (cli.bounce_only || !scene.peers) {
+                continue;
+            }
             eprintln!("running {} on {} ...", engine.name(), scene.name());
             let mut cmd = Command::new(&exe);
-            cmd.args(["one", engine.name(), scene.name()]);
+            cmd.args(["one", engine.name(), &scene.name(), "--cache"]);
+            cmd.arg(&cache);
             if cli.quick {
                 cmd.arg("--quick");
             }
             let out = cmd.output().context("cannot run a benchmark child")?;
+            let mut row = Row {
+                scene: scene.name(),
+                n: scene.count(),
+                engine: engine.name().to_string(),
+                peak_mb: f64::NAN,
+                ..Row::default()
+            };
             if !out.status.success() {
                 // A peer that aborts (Box2D asserts past 65,535 bodies per solver block) is
                 // reported, not fatal: the other engines still run.
@@ -103,22 +136,16 @@ fn main() -> Result<()> {
                     .trim()
                     .to_string();
                 eprintln!("{} on {} failed: {reason}", engine.name(), scene.name());
-                rows.push(Row {
-                    scene: scene.name().to_string(),
-                    n: scene.count(),
-                    engine: engine.name().to_string(),
-                    median_ms: None,
-                    mean_ms: None,
-                    peak_mb: f64::NAN,
-                    note: format!("failed: {reason}"),
-                });
-                continue;
+                row.note = format!("failed: {reason}");
+            } else {
+                parse_child(String::from_utf8_lossy(&out.stdout).trim(), &mut row)?;
             }
-            let line = String::from_utf8_lossy(&out.stdout);
-            rows.push(parse_row(line.trim(), scene, engine)?);
+            rows.push(row);
         }
     }
+    println!("{}\n", machine.line());
     print_table(&rows, &scenes);
+    print_stages(&rows, &machine);
     std::fs::create_dir_all(&cli.out)?;
     write_csv(&rows, &cli.out.join("bench.csv"))?;
     plot(&rows, &cli.out.join("bench.png"))?;
@@ -130,38 +157,64 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// The child: build the scene, warm up, time steps, report.
-fn one(engine: &str, scene: &str, quick: bool) -> Result<()> {
+/// The child: build the scene, warm up, time steps, report one line of `key=value` fields.
+fn one(engine: &str, scene: &str, quick: bool, cache: &Path) -> Result<()> {
     let engine = Engine::parse(engine)?;
     let scene = SceneKind::parse(scene)?;
-    let setup = scene.build();
+    let setup = scene.build(cache)?;
     let count = setup.discs.len();
     // The engine consumes the setup, so the resident figure is the engine's.
     let mut sim = engine.create(setup)?;
     // One trial step decides whether the peer is too slow to measure at this size.
     let trial = sim.step_timed();
     if trial > 2.0 {
-        println!("skipped {:.1} a step took over 2 s", peak_mb());
+        println!("skipped\tpeak={:.1}\tnote=a step took over 2 s", peak_mb());
         return Ok(());
     }
-    for _ in 0..3 {
+    let warm_up = if scene.kind == scenes::Kind::SettledPile {
+        PILE_WARM_UP
+    } else {
+        WARM_UP
+    };
+    for _ in 0..warm_up {
         sim.step_timed();
     }
-    let steps = match (quick, count) {
-        (true, _) => 5,
-        (false, n) if n >= 1_000_000 => 20,
-        (false, n) if n >= 100_000 => 40,
-        _ => 200,
-    };
-    let mut times: Vec<f64> = (0..steps).map(|_| sim.step_timed()).collect();
-    let mean = times.iter().sum::<f64>() / times.len() as f64;
+    let steps = if quick { QUICK_STEPS } else { STEPS };
+    let mut times = Vec::with_capacity(steps);
+    let mut stages = [0.0; 5];
+    let mut rebuilding_steps = 0;
+    for _ in 0..steps {
+        times.push(sim.step_timed());
+        if let Some((s, rebuilds)) = sim.stages() {
+            for (total, t) in stages.iter_mut().zip(s) {
+                *total += t;
+            }
+            rebuilding_steps += (rebuilds > 0) as usize;
+        }
+    }
+    let mean = times.iter().sum::<f64>() / steps as f64;
     times.sort_by(f64::total_cmp);
+    let quantile = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
+    let stages = match sim.stages() {
+        Some(_) => format!(
+            "\tstages={}\trebuild_share={}",
+            stages
+                .iter()
+                .map(|t| format!("{:.6}", t / steps as f64 * 1e3))
+                .collect::<Vec<_>>()
+                .join(","),
+            rebuilding_steps as f64 / steps as f64
+        ),
+        None => String::new(),
+    };
     println!(
-        "ok {:.6} {:.6} {:.1} {}; resident after the run {:.0} MB",
-        times[times.len() / 2] * 1e3,
+        "ok\tmean={:.6}\tp99={:.6}\tmedian={:.6}\tpeak={:.1}{stages}\tnote={}; {} discs, resident after the run {:.0} MB",
         mean * 1e3,
+        quantile(0.99) * 1e3,
+        quantile(0.5) * 1e3,
         peak_mb(),
         sim.note(),
+        count,
         resident_mb()
     );
     Ok(())
@@ -188,71 +241,209 @@ fn status_mb(field: &str) -> f64 {
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
-fn parse_row(line: &str, scene: &SceneKind, engine: Engine) -> Result<Row> {
-    let mut parts = line.splitn(4, ' ');
-    let status = parts.next().unwrap_or_default();
-    let (median_ms, mean_ms, peak_mb, note) = match status {
-        "ok" => {
-            let mut parts = line.splitn(5, ' ').skip(1);
-            let ms: f64 = parts.next().context("median")?.parse()?;
-            let mean: f64 = parts.next().context("mean")?.parse()?;
-            let mb: f64 = parts.next().context("memory")?.parse()?;
-            (
-                Some(ms),
-                Some(mean),
-                mb,
-                parts.next().unwrap_or("").to_string(),
-            )
+/// Fills `row` from a child's line.
+fn parse_child(line: &str, row: &mut Row) -> Result<()> {
+    let mut fields = line.split('\t');
+    let status = fields.next().unwrap_or_default();
+    if status != "ok" && status != "skipped" {
+        bail!("unexpected child output {line:?}");
+    }
+    for field in fields {
+        let (key, value) = field.split_once('=').context("a field without =")?;
+        let number = || value.parse::<f64>().context("a number");
+        match key {
+            "mean" => row.mean_ms = Some(number()?),
+            "p99" => row.p99_ms = Some(number()?),
+            "median" => row.median_ms = Some(number()?),
+            "peak" => row.peak_mb = number()?,
+            "stages" => {
+                let v: Vec<f64> = value.split(',').map(str::parse).collect::<Result<_, _>>()?;
+                let stages = <[f64; 5]>::try_from(v).map_err(|_| anyhow::anyhow!("5 stages"))?;
+                row.stages = Some((stages, 0.0));
+            }
+            "rebuild_share" => {
+                if let Some((_, share)) = row.stages.as_mut() {
+                    *share = number()?;
+                }
+            }
+            "note" => {
+                row.note = if status == "skipped" {
+                    format!("skipped: {value}")
+                } else {
+                    value.to_string()
+                }
+            }
+            _ => {}
         }
-        "skipped" => {
-            let mb: f64 = parts.next().context("memory")?.parse()?;
-            let rest = [parts.next().unwrap_or(""), parts.next().unwrap_or("")].join(" ");
-            (None, None, mb, format!("skipped: {}", rest.trim()))
+    }
+    Ok(())
+}
+
+/// The machine, read from the system.
+struct Machine {
+    cpu: String,
+    cpus: usize,
+    memory_gib: f64,
+    /// Memory bandwidth of a streaming copy, GB/s (read + write bytes), one thread.
+    copy_gbs: f64,
+}
+
+impl Machine {
+    fn read() -> Machine {
+        let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+        let cpu = cpuinfo
+            .lines()
+            .find(|l| l.starts_with("model name"))
+            .and_then(|l| l.split_once(':'))
+            .map_or("unknown CPU".into(), |(_, v)| v.trim().to_string());
+        let memory_gib = std::fs::read_to_string("/proc/meminfo")
+            .ok()
+            .and_then(|m| {
+                m.lines()
+                    .find(|l| l.starts_with("MemTotal:"))
+                    .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+            })
+            .map_or(f64::NAN, |kb| kb / (1024.0 * 1024.0));
+        Machine {
+            cpu,
+            cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            memory_gib,
+            copy_gbs: copy_bandwidth(),
         }
-        other => bail!("unexpected child output {other:?}"),
-    };
-    Ok(Row {
-        scene: scene.name().to_string(),
-        n: scene.count(),
-        engine: engine.name().to_string(),
-        median_ms,
-        mean_ms,
-        peak_mb,
-        note,
-    })
+    }
+
+    fn line(&self) -> String {
+        format!(
+            "Machine: {}, {} CPUs, {:.0} GiB; streaming copy {:.1} GB/s (one thread, read + write)",
+            self.cpu, self.cpus, self.memory_gib, self.copy_gbs
+        )
+    }
+}
+
+/// GB/s moved (read + written) by copying 256 MiB, best of five.
+fn copy_bandwidth() -> f64 {
+    let n = 32 << 20; // f64s
+    let source: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let mut target = vec![0.0f64; n];
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        target.copy_from_slice(&source);
+        best = best.min(t.elapsed().as_secs_f64());
+        std::hint::black_box(&target);
+    }
+    (2 * n * 8) as f64 / best / 1e9
 }
 
 fn print_table(rows: &[Row], scenes: &[SceneKind]) {
     println!(
-        "| scene | N | engine | median ms/step | mean ms/step | particle-steps/s | time vs bounce (2 threads) | peak MB | notes |"
+        "| scene | N | engine | mean ms/step | p99 ms | median ms | ns per particle-step (mean) | time vs bounce 2 threads (means) | peak MB | notes |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let ms = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.2}"));
     for scene in scenes {
         let of_scene: Vec<&Row> = rows.iter().filter(|r| r.scene == scene.name()).collect();
         let reference = of_scene
             .iter()
             .find(|r| r.engine == Engine::Bounce2.name())
-            .and_then(|r| r.median_ms);
+            .and_then(|r| r.mean_ms);
         for r in of_scene {
-            let (ms, rate, ratio) = match r.median_ms {
-                Some(ms) => (
-                    format!("{ms:.2}"),
-                    format!("{:.2e}", r.n as f64 / (ms / 1e3)),
-                    reference.map_or("–".into(), |b| format!("{:.1}x", ms / b)),
+            let (per_particle, ratio) = match r.mean_ms {
+                Some(mean) => (
+                    format!("{:.1}", mean * 1e6 / r.n as f64),
+                    reference.map_or("–".into(), |b| format!("{:.1}x", mean / b)),
                 ),
-                None => ("–".into(), "–".into(), "–".into()),
+                None => ("–".into(), "–".into()),
             };
-            let mean = r.mean_ms.map_or("–".into(), |m| format!("{m:.2}"));
             println!(
-                "| {} | {} | {} | {ms} | {mean} | {rate} | {ratio} | {:.0} | {} |",
-                r.scene, r.n, r.engine, r.peak_mb, r.note
+                "| {} | {} | {} | {} | {} | {} | {per_particle} | {ratio} | {:.0} | {} |",
+                r.scene,
+                r.n,
+                r.engine,
+                ms(r.mean_ms),
+                ms(r.p99_ms),
+                ms(r.median_ms),
+                r.peak_mb,
+                r.note
+            );
+        }
+    }
+}
+
+/// Bytes each stage must move per disc and substep at least (f64 state of 8 arrays, f32
+/// reference positions, 8-byte candidate pairs, 24-byte contacts), given candidates and
+/// contacts per disc and the share of substeps that rebuild.
+fn stage_bytes(candidates: f64, contacts: f64, rebuild_share: f64) -> [f64; 5] {
+    [
+        // integrate: read and write x, y, vx, vy; read the f32 reference positions.
+        64.0 + 8.0,
+        // bin: a rebuild reads x, y, radius, writes cell keys, permutes every array (60
+        // bytes per disc read and written), writes the reference and the candidates.
+        rebuild_share * (24.0 + 8.0 + 120.0 + 8.0 + 8.0 * candidates),
+        // pairs: read the candidates and both discs' x, y; write the contacts.
+        8.0 * candidates + 16.0 + 24.0 * contacts,
+        // resolve: per contact read and write both discs' x, y, vx, vy; read radii.
+        contacts * (2.0 * 64.0 + 16.0),
+        // measure: read vx, vy, radius (and mass).
+        32.0,
+    ]
+}
+
+/// Where bounce's time goes (2 threads), each stage beside the time its memory traffic needs
+/// at the measured copy bandwidth.
+fn print_stages(rows: &[Row], machine: &Machine) {
+    let bounce: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.engine == Engine::Bounce2.name() && r.stages.is_some())
+        .filter(|r| r.scene == "gas-1m" || r.scene.starts_with("pile-settled"))
+        .collect();
+    if bounce.is_empty() {
+        return;
+    }
+    println!(
+        "\nWhere the time goes (bounce, 2 threads; mean ms per step; floor = the stage's minimum \
+         memory traffic at {:.1} GB/s, assuming 3.5 candidates and 1.5 contacts per disc in the \
+         gas, 3.5 and 3 in the pile; substeps per step counted)\n",
+        machine.copy_gbs
+    );
+    println!("| scene | stage | ms | floor ms | ratio |");
+    println!("|---|---|---|---|---|");
+    for r in bounce {
+        let (stages, share) = r.stages.expect("filtered");
+        let (substeps, contacts) = if r.scene.starts_with("pile") {
+            (4.0, 3.0)
+        } else {
+            (1.0, 1.5)
+        };
+        let bytes = stage_bytes(3.5, contacts, share / substeps);
+        let names = [
+            "integrate",
+            "bin (upkeep and rebuilds)",
+            "pairs",
+            "resolve",
+            "measure",
+        ];
+        for k in 0..5 {
+            let floor = bytes[k] * r.n as f64 * substeps / (machine.copy_gbs * 1e9) * 1e3;
+            let floor = if k == 4 { floor / substeps } else { floor };
+            println!(
+                "| {} | {} | {:.2} | {:.2} | {} |",
+                r.scene,
+                names[k],
+                stages[k],
+                floor,
+                if floor > 0.0 {
+                    format!("{:.1}x", stages[k] / floor)
+                } else {
+                    "–".into()
+                }
             );
         }
     }
 }
 
 /// Rows from a `bench.csv` written by [`write_csv`].
-fn read_csv(path: &std::path::Path) -> Result<Vec<Row>> {
+fn read_csv(path: &Path) -> Result<Vec<Row>> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let number =
@@ -262,46 +453,55 @@ fn read_csv(path: &std::path::Path) -> Result<Vec<Row>> {
         .enumerate()
         .map(|(k, line)| {
             let f: Vec<&str> = line.split(',').collect();
-            let [scene, n, engine, median, mean, peak] = f[..] else {
-                bail!("{}: line {}: expected 6 fields", path.display(), k + 2);
+            let [scene, n, engine, mean, p99, median, peak] = f[..] else {
+                bail!("{}: line {}: expected 7 fields", path.display(), k + 2);
             };
             Ok(Row {
                 scene: scene.to_string(),
                 n: n.parse()?,
                 engine: engine.to_string(),
-                median_ms: number(median)?,
                 mean_ms: number(mean)?,
+                p99_ms: number(p99)?,
+                median_ms: number(median)?,
                 peak_mb: number(peak)?.unwrap_or(f64::NAN),
-                note: String::new(),
+                ..Row::default()
             })
         })
         .collect()
 }
 
-fn write_csv(rows: &[Row], path: &std::path::Path) -> Result<()> {
-    let mut text = String::from("scene,n,engine,median_ms,mean_ms,peak_mb\n");
+fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
+    let mut text = String::from("scene,n,engine,mean_ms,p99_ms,median_ms,peak_mb\n");
+    let v = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
     for r in rows {
-        let ms = r.median_ms.map_or(String::new(), |v| v.to_string());
-        let mean = r.mean_ms.map_or(String::new(), |v| v.to_string());
         text.push_str(&format!(
-            "{},{},{},{ms},{mean},{}\n",
-            r.scene, r.n, r.engine, r.peak_mb
+            "{},{},{},{},{},{},{}\n",
+            r.scene,
+            r.n,
+            r.engine,
+            v(r.mean_ms),
+            v(r.p99_ms),
+            v(r.median_ms),
+            r.peak_mb
         ));
     }
     std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// ns per particle-step against N for the gas scenes, one line per engine (log-log).
-fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
+fn plot(rows: &[Row], path: &Path) -> Result<()> {
     use plotters::prelude::*;
     let font = std::fs::read("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
         .context("plots need fonts-dejavu-core")?;
     let font: &'static [u8] = Box::leak(font.into_boxed_slice());
     plotters::style::register_font("sans-serif", FontStyle::Normal, font)
         .map_err(|_| anyhow::anyhow!("cannot load the font"))?;
-    let gas: Vec<&Row> = rows.iter().filter(|r| r.scene.starts_with("gas")).collect();
-    let ns = |r: &Row| r.median_ms.map(|ms| ms * 1e6 / r.n as f64);
-    let mean_ns = |r: &Row| r.mean_ms.map(|ms| ms * 1e6 / r.n as f64);
+    let gas: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.scene.starts_with("gas-"))
+        .collect();
+    let ns = |r: &Row| r.mean_ms.map(|ms| ms * 1e6 / r.n as f64);
+    let mean_ns = |r: &Row| r.median_ms.map(|ms| ms * 1e6 / r.n as f64);
     let hi = gas
         .iter()
         .flat_map(|r| [ns(r), mean_ns(r)])
@@ -321,13 +521,13 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
         root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e:?}"))?;
         let mut chart = ChartBuilder::on(&root)
             .caption(
-                "gas: ns per particle-step, median (solid) and mean (dashed)",
+                "gas: ns per particle-step, mean (solid) and median (dashed)",
                 ("sans-serif", 22),
             )
             .margin(16)
             .x_label_area_size(40)
             .y_label_area_size(60)
-            .build_cartesian_2d((5_000f64..2_000_000f64).log_scale(), (lo..hi).log_scale())
+            .build_cartesian_2d((5_000f64..20_000_000f64).log_scale(), (lo..hi).log_scale())
             .map_err(|e| anyhow::anyhow!("{e:?}"))?;
         chart
             .configure_mesh()
@@ -336,7 +536,7 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<()> {
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| anyhow::anyhow!("{e:?}"))?;
-        let colours = [BLUE, CYAN, RED, GREEN, MAGENTA];
+        let colours = [BLUE, CYAN, RED, MAGENTA, GREEN, BLACK];
         for (k, engine) in Engine::ALL.iter().enumerate() {
             let points: Vec<(f64, f64)> = gas
                 .iter()
