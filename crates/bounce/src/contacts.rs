@@ -37,7 +37,7 @@ const CONTACTS_PER_PIECE: usize = 256;
 const MAX_PIECES: usize = 64;
 
 /// One colliding pair: storage indices `a` (the lower id) and `b`, and its sort key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Contact {
     /// Colour (2 bits), block row (31 bits), block column (31 bits).
     key: u64,
@@ -65,6 +65,9 @@ pub(crate) struct Contacts {
     pub(crate) pieces: Vec<Range<usize>>,
     /// Ranges of `pieces`, one per colour that has contacts, in order.
     pub(crate) phases: Vec<Range<usize>>,
+    /// Scratch of the bucket sort: contacts per block, then block starts; the sorted list.
+    bucket_start: Vec<u32>,
+    sorted: Vec<Contact>,
 }
 
 impl Contacts {
@@ -122,13 +125,75 @@ impl Contacts {
         for found in &self.found {
             self.list.extend_from_slice(found);
         }
-        // Keys with ids are unique, so every sort gives the same order.
-        ctx.exec
-            .sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
+        self.sort_canonically(ctx);
         self.split();
         Detection {
             pairs: self.list.len(),
             max_overlap: overlaps.into_iter().fold(0.0, f64::max),
+        }
+    }
+
+    /// Puts `list` in canonical order. Keys with ids are unique, so every sort gives the
+    /// same order; a settled pile has about 1.5 contacts per disc every substep, and a
+    /// comparison sort of them was 60 % of its detection. So the contacts are counted into
+    /// their blocks (colour-major, then row, then column: the key's order) and only each
+    /// block's few contacts are sorted by ids. Blocks far more numerous than contacts (a
+    /// sparse open world) take the comparison sort instead.
+    fn sort_canonically(&mut self, ctx: &StepContext) {
+        const BLOCK_BITS: u64 = (1 << 31) - 1;
+        let row = |c: &Contact| (c.key >> 31) & BLOCK_BITS;
+        let column = |c: &Contact| c.key & BLOCK_BITS;
+        let Some(first) = self.list.first() else {
+            return;
+        };
+        let (mut row_min, mut row_max) = (row(first), row(first));
+        let (mut column_min, mut column_max) = (column(first), column(first));
+        for c in &self.list {
+            (row_min, row_max) = (row_min.min(row(c)), row_max.max(row(c)));
+            (column_min, column_max) = (column_min.min(column(c)), column_max.max(column(c)));
+        }
+        // Within a colour, rows (and columns) share a parity: halving keeps their order.
+        let width = (column_max - column_min) / 2 + 1;
+        let height = (row_max - row_min) / 2 + 1;
+        let per_colour = width.saturating_mul(height);
+        let buckets = per_colour.saturating_mul(4);
+        if buckets > 16 * self.list.len() as u64 + 65_536 {
+            ctx.exec
+                .sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
+            return;
+        }
+        let bucket = |c: &Contact| -> usize {
+            ((c.key >> 62) * per_colour
+                + (row(c) - row_min) / 2 * width
+                + (column(c) - column_min) / 2) as usize
+        };
+        let starts = &mut self.bucket_start;
+        starts.clear();
+        starts.resize(buckets as usize + 1, 0);
+        for c in &self.list {
+            starts[bucket(c) + 1] += 1;
+        }
+        for b in 0..buckets as usize {
+            starts[b + 1] += starts[b];
+        }
+        self.sorted.clear();
+        self.sorted.resize(self.list.len(), Contact::default());
+        // Place each contact at its bucket's next slot; afterwards slot `b` holds the end
+        // of bucket `b`.
+        for c in &self.list {
+            let slot = &mut starts[bucket(c)];
+            self.sorted[*slot as usize] = *c;
+            *slot += 1;
+        }
+        std::mem::swap(&mut self.list, &mut self.sorted);
+        // Each block's contacts by ids: a handful each, so an insertion sort.
+        let mut start = 0;
+        for &end in starts[..buckets as usize].iter() {
+            let block = &mut self.list[start..end as usize];
+            if block.len() > 1 {
+                insertion_sort_by_ids(block);
+            }
+            start = end as usize;
         }
     }
 
@@ -171,6 +236,22 @@ impl Contacts {
             .collect();
         out.sort_unstable();
         out
+    }
+}
+
+/// Sorts one block's contacts by their id pairs (short runs: insertion sort; long ones, as in
+/// a dense block of a polydisperse world, the standard sort).
+fn insertion_sort_by_ids(block: &mut [Contact]) {
+    if block.len() > 32 {
+        block.sort_unstable_by_key(|c| c.ids);
+        return;
+    }
+    for i in 1..block.len() {
+        let mut j = i;
+        while j > 0 && block[j - 1].ids > block[j].ids {
+            block.swap(j - 1, j);
+            j -= 1;
+        }
     }
 }
 
@@ -312,6 +393,48 @@ mod tests {
 
     fn order_grid(config: &Config, max_radius: f64) -> OrderGrid {
         OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius)
+    }
+
+    #[test]
+    fn the_bucket_sort_gives_the_canonical_order() {
+        // Contacts with keys as `OrderGrid::key` makes them (colour from the parities),
+        // dense (the bucket sort) and sparse (the comparison sort), against a plain sort.
+        let exec = crate::parallel::Executor::default();
+        let config = Config::default();
+        let ctx = StepContext::new(&config, 0.1, &exec);
+        let mut state = 12345u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state >> 33
+        };
+        for (count, span) in [(5000u64, 40u64), (3000, 1 << 30), (1, 1), (200, 3)] {
+            let list: Vec<Contact> = (0..count)
+                .map(|k| {
+                    let (bx, by) = (next() % span + 7, next() % span + 11);
+                    let colour = (bx & 1) | ((by & 1) << 1);
+                    let lower = next() % 50;
+                    Contact {
+                        key: (colour << 62) | (by << 31) | bx,
+                        ids: (lower << 32) | (lower + 1 + k),
+                        a: k as u32,
+                        b: 0,
+                    }
+                })
+                .collect();
+            let mut expected = list.clone();
+            expected.sort_unstable_by_key(|c| (c.key, c.ids));
+            let mut contacts = Contacts {
+                list,
+                ..Contacts::default()
+            };
+            contacts.sort_canonically(&ctx);
+            assert_eq!(
+                contacts.list, expected,
+                "{count} contacts over {span} blocks"
+            );
+        }
     }
 
     #[test]
