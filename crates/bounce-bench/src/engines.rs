@@ -70,9 +70,9 @@ pub trait Sim {
     fn step_timed(&mut self) -> f64;
     /// What differs from bounce's physics.
     fn note(&self) -> String;
-    /// Seconds in each stage of the last step (integrate, bin, pairs, resolve, measure) and
-    /// the substeps that rebuilt the candidate list: bounce only.
-    fn stages(&self) -> Option<([f64; 5], usize)> {
+    /// Seconds in each stage of the last step (integrate, bin, pairs, resolve, measure),
+    /// the substeps that rebuilt the candidate list and the contacts resolved: bounce only.
+    fn stages(&self) -> Option<([f64; 5], usize, usize)> {
         None
     }
 }
@@ -132,11 +132,12 @@ impl Sim for BounceSim {
         "seed model, f64".into()
     }
 
-    fn stages(&self) -> Option<([f64; 5], usize)> {
+    fn stages(&self) -> Option<([f64; 5], usize, usize)> {
         let p = self.world.profile();
         Some((
             [p.integrate, p.bin, p.pairs, p.resolve, p.measure],
             p.rebuilds,
+            self.world.stats().pairs,
         ))
     }
 }

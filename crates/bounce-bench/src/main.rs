@@ -73,9 +73,9 @@ struct Row {
     p99_ms: Option<f64>,
     median_ms: Option<f64>,
     peak_mb: f64,
-    /// bounce's mean ms per stage (integrate, bin, pairs, resolve, measure) and the share of
-    /// steps with a rebuild.
-    stages: Option<([f64; 5], f64)>,
+    /// bounce's mean ms per stage (integrate, bin, pairs, resolve, measure), the share of
+    /// steps with a rebuild and the contacts per disc and substep.
+    stages: Option<([f64; 5], f64, f64)>,
     note: String,
 }
 
@@ -183,27 +183,31 @@ fn one(engine: &str, scene: &str, quick: bool, cache: &Path) -> Result<()> {
     let mut times = Vec::with_capacity(steps);
     let mut stages = [0.0; 5];
     let mut rebuilding_steps = 0;
+    let mut contacts = 0;
     for _ in 0..steps {
         times.push(sim.step_timed());
-        if let Some((s, rebuilds)) = sim.stages() {
+        if let Some((s, rebuilds, pairs)) = sim.stages() {
             for (total, t) in stages.iter_mut().zip(s) {
                 *total += t;
             }
             rebuilding_steps += (rebuilds > 0) as usize;
+            contacts += pairs;
         }
     }
+    let substeps = scene.substeps() as f64;
     let mean = times.iter().sum::<f64>() / steps as f64;
     times.sort_by(f64::total_cmp);
     let quantile = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
     let stages = match sim.stages() {
         Some(_) => format!(
-            "\tstages={}\trebuild_share={}",
+            "\tstages={}\trebuild_share={}\tcontacts={}",
             stages
                 .iter()
                 .map(|t| format!("{:.6}", t / steps as f64 * 1e3))
                 .collect::<Vec<_>>()
                 .join(","),
-            rebuilding_steps as f64 / steps as f64
+            rebuilding_steps as f64 / steps as f64,
+            contacts as f64 / (steps as f64 * substeps * count as f64)
         ),
         None => String::new(),
     };
@@ -259,11 +263,16 @@ fn parse_child(line: &str, row: &mut Row) -> Result<()> {
             "stages" => {
                 let v: Vec<f64> = value.split(',').map(str::parse).collect::<Result<_, _>>()?;
                 let stages = <[f64; 5]>::try_from(v).map_err(|_| anyhow::anyhow!("5 stages"))?;
-                row.stages = Some((stages, 0.0));
+                row.stages = Some((stages, 0.0, 0.0));
             }
             "rebuild_share" => {
-                if let Some((_, share)) = row.stages.as_mut() {
+                if let Some((_, share, _)) = row.stages.as_mut() {
                     *share = number()?;
+                }
+            }
+            "contacts" => {
+                if let Some((_, _, contacts)) = row.stages.as_mut() {
+                    *contacts = number()?;
                 }
             }
             "note" => {
@@ -284,7 +293,7 @@ struct Machine {
     cpu: String,
     cpus: usize,
     memory_gib: f64,
-    /// Memory bandwidth of a streaming copy, GB/s (read + write bytes), one thread.
+    /// Memory bandwidth of a streaming copy on every CPU, GB/s (read + write bytes).
     copy_gbs: f64,
 }
 
@@ -314,21 +323,28 @@ impl Machine {
 
     fn line(&self) -> String {
         format!(
-            "Machine: {}, {} CPUs, {:.0} GiB; streaming copy {:.1} GB/s (one thread, read + write)",
+            "Machine: {}, {} CPUs, {:.0} GiB; streaming copy {:.1} GB/s (all CPUs, read + write)",
             self.cpu, self.cpus, self.memory_gib, self.copy_gbs
         )
     }
 }
 
-/// GB/s moved (read + written) by copying 256 MiB, best of five.
+/// GB/s moved (read + written) by copying 256 MiB on every CPU at once, best of five:
+/// the bandwidth the 2-thread stages can use.
 fn copy_bandwidth() -> f64 {
     let n = 32 << 20; // f64s
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let source: Vec<f64> = (0..n).map(|i| i as f64).collect();
     let mut target = vec![0.0f64; n];
+    let part = n.div_ceil(threads);
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let t = std::time::Instant::now();
-        target.copy_from_slice(&source);
+        std::thread::scope(|s| {
+            for (to, from) in target.chunks_mut(part).zip(source.chunks(part)) {
+                s.spawn(move || to.copy_from_slice(from));
+            }
+        });
         best = best.min(t.elapsed().as_secs_f64());
         std::hint::black_box(&target);
     }
@@ -401,21 +417,24 @@ fn print_stages(rows: &[Row], machine: &Machine) {
         return;
     }
     println!(
-        "\nWhere the time goes (bounce, 2 threads; mean ms per step; floor = the stage's minimum \
-         memory traffic at {:.1} GB/s, assuming 3.5 candidates and 1.5 contacts per disc in the \
-         gas, 3.5 and 3 in the pile; substeps per step counted)\n",
+        "\nWhere the time goes (bounce, 2 threads; mean ms per step). Floor: the stage's least \
+         memory traffic (`stage_bytes`) at the copy bandwidth above, {:.1} GB/s, with the \
+         contacts per disc measured and the candidates per disc counted at a rebuild (1.5 in \
+         the gas, 4.5 in the settled pile).\n",
         machine.copy_gbs
     );
     println!("| scene | stage | ms | floor ms | ratio |");
     println!("|---|---|---|---|---|");
     for r in bounce {
-        let (stages, share) = r.stages.expect("filtered");
-        let (substeps, contacts) = if r.scene.starts_with("pile") {
-            (4.0, 3.0)
+        let (stages, share, contacts) = r.stages.expect("filtered");
+        let scene = SceneKind::parse(&r.scene).expect("a known scene");
+        let substeps = scene.substeps() as f64;
+        let candidates = if scene.kind == scenes::Kind::SettledPile {
+            4.5
         } else {
-            (1.0, 1.5)
+            1.5
         };
-        let bytes = stage_bytes(3.5, contacts, share / substeps);
+        let bytes = stage_bytes(candidates, contacts, share / substeps);
         let names = [
             "integrate",
             "bin (upkeep and rebuilds)",
@@ -424,8 +443,9 @@ fn print_stages(rows: &[Row], machine: &Machine) {
             "measure",
         ];
         for k in 0..5 {
-            let floor = bytes[k] * r.n as f64 * substeps / (machine.copy_gbs * 1e9) * 1e3;
-            let floor = if k == 4 { floor / substeps } else { floor };
+            // Every stage but the measurement runs once per substep.
+            let runs = if k == 4 { 1.0 } else { substeps };
+            let floor = bytes[k] * r.n as f64 * runs / (machine.copy_gbs * 1e9) * 1e3;
             println!(
                 "| {} | {} | {:.2} | {:.2} | {} |",
                 r.scene,
