@@ -65,9 +65,57 @@ pub(crate) struct Contacts {
     pub(crate) pieces: Vec<Range<usize>>,
     /// Ranges of `pieces`, one per colour that has contacts, in order.
     pub(crate) phases: Vec<Range<usize>>,
-    /// Scratch of the bucket sort: contacts per block, then block starts; the sorted list.
+    /// Scratch of the bucket sort: contacts per order block, then block starts.
     bucket_start: Vec<u32>,
-    sorted: Vec<Contact>,
+}
+
+/// The order-grid block coordinates contacts fall in: rows and columns, lowest and highest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct BlockBounds {
+    rows: [u64; 2],
+    columns: [u64; 2],
+}
+
+/// The 31 bits of a block coordinate in a contact's key.
+const BLOCK_BITS: u64 = (1 << 31) - 1;
+
+fn row_of(key: u64) -> u64 {
+    (key >> 31) & BLOCK_BITS
+}
+
+fn column_of(key: u64) -> u64 {
+    key & BLOCK_BITS
+}
+
+impl BlockBounds {
+    /// Bounds of no contact (any union replaces them).
+    const EMPTY: BlockBounds = BlockBounds {
+        rows: [u64::MAX, 0],
+        columns: [u64::MAX, 0],
+    };
+
+    fn of(contacts: &[Contact]) -> BlockBounds {
+        contacts.iter().fold(BlockBounds::EMPTY, |b, c| {
+            let (row, column) = (row_of(c.key), column_of(c.key));
+            BlockBounds {
+                rows: [b.rows[0].min(row), b.rows[1].max(row)],
+                columns: [b.columns[0].min(column), b.columns[1].max(column)],
+            }
+        })
+    }
+
+    fn union(self, other: &BlockBounds) -> BlockBounds {
+        BlockBounds {
+            rows: [
+                self.rows[0].min(other.rows[0]),
+                self.rows[1].max(other.rows[1]),
+            ],
+            columns: [
+                self.columns[0].min(other.columns[0]),
+                self.columns[1].max(other.columns[1]),
+            ],
+        }
+    }
 }
 
 impl Contacts {
@@ -101,11 +149,11 @@ impl Contacts {
         let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
         let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
         let pair = |i: usize, j: usize| law.collision_distance(p.radius[i], p.radius[j]);
-        let overlaps = ctx.exec.map_mut(work, &mut self.found, |block, found| {
+        let found = ctx.exec.map_mut(work, &mut self.found, |block, found| {
             let (pairs, grid) = (&candidates[block], &grid);
             // SAFETY: every candidate indexes the current storage of `p` (asserted above:
             // the list was made for exactly these discs).
-            unsafe {
+            let overlap = unsafe {
                 match (periodic, uniform) {
                     (false, Some(r)) => {
                         let d = law.collision_distance(r, r);
@@ -118,83 +166,110 @@ impl Contacts {
                     (false, None) => test(pairs, p, grid, found, plain, pair),
                     (true, None) => test(pairs, p, grid, found, image, pair),
                 }
-            }
+            };
+            // The blocks these contacts fall in, while they are still in cache.
+            (overlap, BlockBounds::of(found))
         });
-
-        self.list.clear();
-        for found in &self.found {
-            self.list.extend_from_slice(found);
-        }
-        self.sort_canonically(ctx);
+        let bounds = found
+            .iter()
+            .fold(BlockBounds::EMPTY, |all, (_, b)| all.union(b));
+        self.gather_in_order(bounds, ctx);
         self.split();
         Detection {
             pairs: self.list.len(),
-            max_overlap: overlaps.into_iter().fold(0.0, f64::max),
+            max_overlap: found
+                .iter()
+                .map(|(overlap, _)| *overlap)
+                .fold(0.0, f64::max),
         }
     }
 
-    /// Puts `list` in canonical order. Keys with ids are unique, so every sort gives the
-    /// same order; a settled pile has about 1.5 contacts per disc every substep, and a
-    /// comparison sort of them was 60 % of its detection. So the contacts are counted into
-    /// their blocks (colour-major, then row, then column: the key's order) and only each
-    /// block's few contacts are sorted by ids. Blocks far more numerous than contacts (a
-    /// sparse open world) take the comparison sort instead.
-    fn sort_canonically(&mut self, ctx: &StepContext) {
-        const BLOCK_BITS: u64 = (1 << 31) - 1;
-        let row = |c: &Contact| (c.key >> 31) & BLOCK_BITS;
-        let column = |c: &Contact| c.key & BLOCK_BITS;
-        let Some(first) = self.list.first() else {
+    /// Gathers the contacts found per candidate block into `list`, in canonical order. Keys
+    /// with ids are unique, so every sort gives the same order; but a settled pile has
+    /// about 1.5 contacts per disc every substep, and a comparison sort of them was 60 % of
+    /// its detection. So the contacts are counted into their order blocks (colour-major,
+    /// then row, then column: the key's order), placed straight from the found lists, and
+    /// only each block's few contacts are sorted by ids. Blocks far more numerous than
+    /// contacts (a sparse open world) take the comparison sort instead.
+    fn gather_in_order(&mut self, bounds: BlockBounds, ctx: &StepContext) {
+        let total: usize = self.found.iter().map(Vec::len).sum();
+        self.list.clear();
+        if total == 0 {
             return;
-        };
-        let (mut row_min, mut row_max) = (row(first), row(first));
-        let (mut column_min, mut column_max) = (column(first), column(first));
-        for c in &self.list {
-            (row_min, row_max) = (row_min.min(row(c)), row_max.max(row(c)));
-            (column_min, column_max) = (column_min.min(column(c)), column_max.max(column(c)));
         }
         // Within a colour, rows (and columns) share a parity: halving keeps their order.
-        let width = (column_max - column_min) / 2 + 1;
-        let height = (row_max - row_min) / 2 + 1;
+        let width = (bounds.columns[1] - bounds.columns[0]) / 2 + 1;
+        let height = (bounds.rows[1] - bounds.rows[0]) / 2 + 1;
         let per_colour = width.saturating_mul(height);
         let buckets = per_colour.saturating_mul(4);
-        if buckets > 16 * self.list.len() as u64 + 65_536 {
+        if buckets > 16 * total as u64 + 65_536 {
+            for found in &self.found {
+                self.list.extend_from_slice(found);
+            }
             ctx.exec
                 .sort_unstable_by_key(&mut self.list, |c| (c.key, c.ids));
             return;
         }
+        let [row_min, column_min] = [bounds.rows[0], bounds.columns[0]];
         let bucket = |c: &Contact| -> usize {
             ((c.key >> 62) * per_colour
-                + (row(c) - row_min) / 2 * width
-                + (column(c) - column_min) / 2) as usize
+                + (row_of(c.key) - row_min) / 2 * width
+                + (column_of(c.key) - column_min) / 2) as usize
         };
         let starts = &mut self.bucket_start;
         starts.clear();
         starts.resize(buckets as usize + 1, 0);
-        for c in &self.list {
+        for c in self.found.iter().flatten() {
             starts[bucket(c) + 1] += 1;
         }
         for b in 0..buckets as usize {
             starts[b + 1] += starts[b];
         }
-        self.sorted.clear();
-        self.sorted.resize(self.list.len(), Contact::default());
-        // Place each contact at its bucket's next slot; afterwards slot `b` holds the end
-        // of bucket `b`.
-        for c in &self.list {
+        // Place each contact at its bucket's next slot (afterwards slot `b` holds the end of
+        // bucket `b`), straight from the found lists into the list's spare capacity.
+        self.list.reserve(total);
+        let spare = &mut self.list.spare_capacity_mut()[..total];
+        for c in self.found.iter().flatten() {
             let slot = &mut starts[bucket(c)];
-            self.sorted[*slot as usize] = *c;
+            spare[*slot as usize].write(*c);
             *slot += 1;
         }
-        std::mem::swap(&mut self.list, &mut self.sorted);
-        // Each block's contacts by ids: a handful each, so an insertion sort.
-        let mut start = 0;
-        for &end in starts[..buckets as usize].iter() {
-            let block = &mut self.list[start..end as usize];
-            if block.len() > 1 {
-                insertion_sort_by_ids(block);
-            }
-            start = end as usize;
+        // SAFETY: the buckets partition `0..total` and each slot of a bucket is written by
+        // exactly one contact counted into it above, so all `total` slots are initialised.
+        unsafe { self.list.set_len(total) };
+        // Each block's contacts by ids, a handful each; groups of whole blocks in parallel
+        // (blocks are independent, so the result is the same on any thread count).
+        let starts = &starts[..buckets as usize];
+        let groups = 64.min(starts.len());
+        let mut pieces: Vec<&mut [Contact]> = Vec::with_capacity(groups);
+        let mut bounds: Vec<&[u32]> = Vec::with_capacity(groups);
+        let mut rest = &mut self.list[..];
+        let mut consumed = 0usize;
+        for g in 0..groups {
+            let ends = &starts[g * starts.len() / groups..(g + 1) * starts.len() / groups];
+            let end = ends.last().map_or(consumed, |&e| e as usize);
+            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(end - consumed);
+            pieces.push(piece);
+            bounds.push(ends);
+            rest = tail;
+            consumed = end;
         }
+        let base: Vec<usize> = std::iter::once(0)
+            .chain(bounds.iter().scan(0usize, |at, ends| {
+                *at = ends.last().map_or(*at, |&e| e as usize);
+                Some(*at)
+            }))
+            .collect();
+        ctx.exec.for_each_mut(total, &mut pieces, |g, piece| {
+            let mut start = 0;
+            for &end in bounds[g] {
+                let end = end as usize - base[g];
+                if end - start > 1 {
+                    sort_by_ids(&mut piece[start..end]);
+                }
+                start = end;
+            }
+        });
     }
 
     /// Cuts the sorted list into colours and each colour into pieces at block boundaries.
@@ -241,17 +316,20 @@ impl Contacts {
 
 /// Sorts one block's contacts by their id pairs (short runs: insertion sort; long ones, as in
 /// a dense block of a polydisperse world, the standard sort).
-fn insertion_sort_by_ids(block: &mut [Contact]) {
+fn sort_by_ids(block: &mut [Contact]) {
     if block.len() > 32 {
         block.sort_unstable_by_key(|c| c.ids);
         return;
     }
+    // Insertion by shifting: each contact is moved once, the larger ones slide up.
     for i in 1..block.len() {
+        let contact = block[i];
         let mut j = i;
-        while j > 0 && block[j - 1].ids > block[j].ids {
-            block.swap(j - 1, j);
+        while j > 0 && block[j - 1].ids > contact.ids {
+            block[j] = block[j - 1];
             j -= 1;
         }
+        block[j] = contact;
     }
 }
 
@@ -425,11 +503,14 @@ mod tests {
                 .collect();
             let mut expected = list.clone();
             expected.sort_unstable_by_key(|c| (c.key, c.ids));
+            // Found in two candidate blocks, as `find` leaves them.
+            let half = list.len() / 2;
+            let bounds = BlockBounds::of(&list[..half]).union(&BlockBounds::of(&list[half..]));
             let mut contacts = Contacts {
-                list,
+                found: vec![list[..half].to_vec(), list[half..].to_vec()],
                 ..Contacts::default()
             };
-            contacts.sort_canonically(&ctx);
+            contacts.gather_in_order(bounds, &ctx);
             assert_eq!(
                 contacts.list, expected,
                 "{count} contacts over {span} blocks"
