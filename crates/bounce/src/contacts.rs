@@ -189,8 +189,8 @@ impl Contacts {
     /// about 1.5 contacts per disc every substep, and a comparison sort of them was 60 % of
     /// its detection. So the contacts are counted into their order blocks (colour-major,
     /// then row, then column: the key's order), placed straight from the found lists, and
-    /// only each block's few contacts are sorted by ids. Blocks far more numerous than
-    /// contacts (a sparse open world) take the comparison sort instead.
+    /// only each block's few contacts are sorted by ids. Where blocks outnumber the contacts
+    /// by more than four to one (a dilute gas) the comparison sort is cheaper and is used.
     fn gather_in_order(&mut self, bounds: BlockBounds, ctx: &StepContext) {
         let total: usize = self.found.iter().map(Vec::len).sum();
         self.list.clear();
@@ -202,7 +202,9 @@ impl Contacts {
         let height = (bounds.rows[1] - bounds.rows[0]) / 2 + 1;
         let per_colour = width.saturating_mul(height);
         let buckets = per_colour.saturating_mul(4);
-        if buckets > 16 * total as u64 + 65_536 {
+        // Counting costs a pass over the blocks as well as the contacts: worth it where
+        // there are few blocks per contact (a pile), not in a dilute gas.
+        if buckets > 4 * total as u64 + 1024 {
             for found in &self.found {
                 self.list.extend_from_slice(found);
             }
@@ -487,7 +489,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             state >> 33
         };
-        for (count, span) in [(5000u64, 40u64), (3000, 1 << 30), (1, 1), (200, 3)] {
+        for (count, span) in [(5000u64, 40u64), (3000, 1 << 30), (1, 1), (2000, 3), (9, 2)] {
             let list: Vec<Contact> = (0..count)
                 .map(|k| {
                     let (bx, by) = (next() % span + 7, next() % span + 11);
