@@ -154,6 +154,15 @@ fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
 }
 
 fn main() -> ExitCode {
+    // Like other Unix tools, end quietly when the reader of standard output goes away
+    // (`bounce check ... | head -1`): Rust starts with SIGPIPE ignored, so the next write
+    // would fail and `println!` panic. Output files are written atomically, so a run ended
+    // this way leaves none half-written.
+    #[cfg(unix)]
+    // SAFETY: sets a signal's default disposition at start-up, before any other thread.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     // Bad arguments exit with 1, like every other bad input (help and --version with 0).
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

@@ -686,3 +686,39 @@ fn a_lattice_gas_reaches_a_dense_liquid_from_a_scenario() {
     }
     assert!(stdout.contains("expected pressure bias"), "{stdout}");
 }
+
+#[test]
+fn a_closed_standard_output_ends_the_command_quietly() {
+    // `bounce check ... | head -1`: the reader leaves before bounce writes. Found by
+    // review: `println!` panicked on the broken pipe. Now the process ends as other Unix
+    // tools do, on SIGPIPE, with no panic message.
+    let scenario =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/gas.toml");
+    for _ in 0..5 {
+        let mut child = bounce()
+            .arg("check")
+            .arg(&scenario)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the reader is gone before the first line
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::ExitStatusExt;
+            // Ended by SIGPIPE, or done before the pipe closed.
+            assert!(
+                out.status.signal() == Some(SIGPIPE) || out.status.success(),
+                "{:?}",
+                out.status
+            );
+        }
+    }
+}
+
+/// SIGPIPE's number on Linux and the BSDs.
+#[cfg(unix)]
+const SIGPIPE: i32 = 13;
