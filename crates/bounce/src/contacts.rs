@@ -243,35 +243,29 @@ impl Contacts {
         // (blocks are independent, so the result is the same on any thread count).
         let starts = &starts[..buckets as usize];
         let groups = 64.min(starts.len());
-        let mut pieces: Vec<&mut [Contact]> = Vec::with_capacity(groups);
-        let mut bounds: Vec<&[u32]> = Vec::with_capacity(groups);
+        // Each group: its contacts, the ends of its blocks, and where its contacts start.
+        let mut pieces: Vec<(&mut [Contact], &[u32], usize)> = Vec::with_capacity(groups);
         let mut rest = &mut self.list[..];
         let mut consumed = 0usize;
         for g in 0..groups {
             let ends = &starts[g * starts.len() / groups..(g + 1) * starts.len() / groups];
             let end = ends.last().map_or(consumed, |&e| e as usize);
             let (piece, tail) = std::mem::take(&mut rest).split_at_mut(end - consumed);
-            pieces.push(piece);
-            bounds.push(ends);
+            pieces.push((piece, ends, consumed));
             rest = tail;
             consumed = end;
         }
-        let base: Vec<usize> = std::iter::once(0)
-            .chain(bounds.iter().scan(0usize, |at, ends| {
-                *at = ends.last().map_or(*at, |&e| e as usize);
-                Some(*at)
-            }))
-            .collect();
-        ctx.exec.for_each_mut(total, &mut pieces, |g, piece| {
-            let mut start = 0;
-            for &end in bounds[g] {
-                let end = end as usize - base[g];
-                if end - start > 1 {
-                    sort_by_ids(&mut piece[start..end]);
+        ctx.exec
+            .for_each_mut(total, &mut pieces, |_, (piece, ends, base)| {
+                let mut start = 0;
+                for &end in ends.iter() {
+                    let end = end as usize - *base;
+                    if end - start > 1 {
+                        sort_by_ids(&mut piece[start..end]);
+                    }
+                    start = end;
                 }
-                start = end;
-            }
-        });
+            });
     }
 
     /// Cuts the sorted list into colours and each colour into pieces at block boundaries.

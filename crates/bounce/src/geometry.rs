@@ -288,21 +288,25 @@ pub(crate) fn reflect(
     if *x - r < lo {
         *x = lo + r;
         if *v < 0.0 {
-            let new_v = -*v * e;
-            let impulse = m * (new_v - *v);
-            *v = new_v;
-            return (impulse, 0.0);
+            return (bounce(v, e, m), 0.0);
         }
     } else if *x + r > hi {
         *x = hi - r;
         if *v > 0.0 {
-            let new_v = -*v * e;
-            let impulse = m * (*v - new_v);
-            *v = new_v;
-            return (0.0, impulse);
+            return (0.0, bounce(v, e, m));
         }
     }
     (0.0, 0.0)
+}
+
+/// A wall's bounce of a disc of mass `m` moving into it at normal velocity `v`: reversed and
+/// scaled by `e`. Returns the momentum given to the wall, `m |Δv|`.
+#[inline]
+pub(crate) fn bounce(v: &mut f64, e: f64, m: f64) -> f64 {
+    let new_v = -*v * e;
+    let impulse = m * (new_v - *v).abs();
+    *v = new_v;
+    impulse
 }
 
 /// One axis of the periodic box: back into `[lo, lo + size)`. Returns the box widths the

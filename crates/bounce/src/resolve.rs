@@ -14,7 +14,7 @@
 
 use crate::contacts::Contacts;
 use crate::context::StepContext;
-use crate::geometry::{Geometry, WallImpulse};
+use crate::geometry::{Geometry, WallImpulse, bounce};
 use crate::law::Body;
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::particles::Particles;
@@ -118,20 +118,15 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallImpulse
             .enumerate()
             .map(|(c, (vx, vy))| (c * CHUNK, vx, vy))
             .collect();
-    // One wall of one axis: the impulse on the low and the high wall.
-    let bounce = |position: f64, v: &mut f64, r: f64, m: f64, lo: f64, hi: f64| {
-        let into = if position <= lo + r && *v < 0.0 {
-            0
+    // One axis: the impulse on the low and the high wall.
+    let touch = |position: f64, v: &mut f64, r: f64, m: f64, lo: f64, hi: f64| {
+        if position <= lo + r && *v < 0.0 {
+            [bounce(v, e, m), 0.0]
         } else if position >= hi - r && *v > 0.0 {
-            1
+            [0.0, bounce(v, e, m)]
         } else {
-            return [0.0; 2];
-        };
-        let new_v = -*v * e;
-        let mut impulse = [0.0; 2];
-        impulse[into] = m * (new_v - *v).abs();
-        *v = new_v;
-        impulse
+            [0.0; 2]
+        }
     };
     let partial = ctx
         .exec
@@ -141,8 +136,8 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallImpulse
                 let i = *base + k;
                 let r = radius[i];
                 let m = law.mass(r, mass[i]);
-                let [left, right] = bounce(x[i], vx, r, m, min[0], max[0]);
-                let [bottom, top] = bounce(y[i], vy, r, m, min[1], max[1]);
+                let [left, right] = touch(x[i], vx, r, m, min[0], max[0]);
+                let [bottom, top] = touch(y[i], vy, r, m, min[1], max[1]);
                 impulse.add(&WallImpulse {
                     left,
                     right,
