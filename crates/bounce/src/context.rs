@@ -17,6 +17,10 @@ pub(crate) struct StepContext<'a> {
     pub law: Law,
     /// The edge of the world.
     pub geometry: Geometry,
+    /// With more than one solver pass under gravity: the gravity vector, by which each
+    /// order block's contacts are resolved lowest first (see `contacts`). `None` keeps the
+    /// seed's single pass in id order.
+    pub stack_order: Option<[f64; 2]>,
     /// Serial or a thread pool; results never depend on it.
     pub exec: &'a Executor,
 }
@@ -29,6 +33,8 @@ impl<'a> StepContext<'a> {
             gravity: config.gravity,
             law: Law::new(config),
             geometry: Geometry::new(config),
+            stack_order: (config.solver_iterations > 1 && config.gravity != [0.0, 0.0])
+                .then_some(config.gravity),
             exec,
         }
     }

@@ -2,7 +2,7 @@
 //! virial checked against the walls and against hard-disc theory.
 
 use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, Particle, RestitutionModel, World};
+use bounce::{Boundary, Config, Particle, RestitutionModel, VelocityUpdate, World};
 
 /// Two discs of radius 0.5 closing at 30 per unit time: each moves 3 diameters per step of
 /// 0.1 (found by review: they passed through each other with 0 collisions).
@@ -212,14 +212,24 @@ fn pressure_is_measured_in_a_periodic_box_too_and_open_worlds_have_none() {
 /// A pile: discs rain into a 30 × 40 box under gravity with restitution 0.7 and 4 substeps,
 /// with the momentum-conserving restitution model and `passes` solver passes.
 fn relative_pile(passes: u32, threads: usize) -> World {
+    pile(
+        Config {
+            restitution_model: RestitutionModel::RelativeNormalVelocity,
+            solver_iterations: passes,
+            ..Config::default()
+        },
+        threads,
+    )
+}
+
+/// The pile of `relative_pile` under `model`'s restitution model, velocity update and passes.
+fn pile(model: Config, threads: usize) -> World {
     let config = Config {
         boundary: Boundary::walls([0.0, 0.0], [30.0, 40.0]),
         gravity: [0.0, -9.81],
         coefficient_of_restitution: 0.7,
-        restitution_model: RestitutionModel::RelativeNormalVelocity,
         substeps: 4,
-        solver_iterations: passes,
-        ..Config::default()
+        ..model
     };
     let discs = scene::gas(
         &Gas {
@@ -276,6 +286,28 @@ fn more_solver_passes_keep_a_pile_from_compressing() {
         b.step(1.0 / 60.0).unwrap();
     }
     assert_eq!(a.state_hash(), b.state_hash());
+}
+
+#[test]
+fn with_enough_passes_the_momentum_conserving_pile_settles_as_well_as_the_seeds() {
+    // Issue 12: under the standard model (Newton's restitution on the relative normal
+    // velocity, approaching pairs only) the pile's kinetic-energy floor and largest overlap
+    // are no worse than the seed model's single pass. Each block's contacts go lowest first
+    // when there are several passes under gravity, so a pass carries the floor's support
+    // up a whole block.
+    let (seed_overlap, seed_energy) = settled(&mut pile(Config::default(), 2));
+    let standard = Config {
+        restitution_model: RestitutionModel::RelativeNormalVelocity,
+        velocity_update: VelocityUpdate::ApproachingOnly,
+        solver_iterations: 64,
+        ..Config::default()
+    };
+    let (overlap, energy) = settled(&mut pile(standard, 2));
+    assert!(
+        overlap <= seed_overlap && energy <= seed_energy,
+        "64 passes: overlap {overlap}, kinetic energy {energy}; the seed's single pass: \
+         {seed_overlap}, {seed_energy}"
+    );
 }
 
 #[test]
