@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use bounce::{Boundary, World};
+use bounce::{Boundary, Shape, World};
 use bounce_scenario::palette::Palette;
 use bounce_scenario::{ColorBy, Rgb};
 use tiny_skia::{
@@ -25,6 +25,8 @@ pub struct Painter {
     width: u32,
     height: u32,
     palette: Palette,
+    /// Each obstacle's colour.
+    obstacle_colours: Vec<Rgb>,
 }
 
 impl Painter {
@@ -45,7 +47,14 @@ impl Painter {
             width,
             height,
             palette: Palette::for_world(world, colour_by, colours),
+            obstacle_colours: Vec::new(),
         }
+    }
+
+    /// Draws the obstacles in these colours (one per obstacle; grey where missing).
+    pub fn with_obstacle_colours(mut self, colours: Vec<Rgb>) -> Self {
+        self.obstacle_colours = colours;
+        self
     }
 
     /// Frame size in pixels.
@@ -86,6 +95,7 @@ impl Painter {
                 );
             }
         }
+        self.paint_obstacles(world, &mut pixmap, scale);
         let p = world.particles();
         let mut paint = Paint {
             anti_alias: true,
@@ -116,6 +126,54 @@ impl Painter {
             }
         }
         pixmap
+    }
+}
+
+impl Painter {
+    /// Segments as lines (at least 1.5 pixels wide), pegs as discs to scale.
+    fn paint_obstacles(&self, world: &World, pixmap: &mut Pixmap, scale: f64) {
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        let stroke = Stroke {
+            width: 1.5,
+            line_cap: tiny_skia::LineCap::Round,
+            ..Stroke::default()
+        };
+        for (k, shape) in world.obstacle_shapes().iter().enumerate() {
+            let colour = self
+                .obstacle_colours
+                .get(k)
+                .copied()
+                .unwrap_or(bounce_scenario::OBSTACLE_GREY);
+            paint.set_color(rgb(colour));
+            match *shape {
+                Shape::Segment { a, b } => {
+                    let (x0, y0) = self.to_pixel(a[0], a[1]);
+                    let (x1, y1) = self.to_pixel(b[0], b[1]);
+                    let mut path = PathBuilder::new();
+                    path.move_to(x0, y0);
+                    path.line_to(x1, y1);
+                    if let Some(path) = path.finish() {
+                        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+                    }
+                }
+                Shape::Peg { centre, radius } => {
+                    let (x, y) = self.to_pixel(centre[0], centre[1]);
+                    let r = ((radius * scale) as f32).max(0.75);
+                    if let Some(path) = PathBuilder::from_circle(x, y, r) {
+                        pixmap.fill_path(
+                            &path,
+                            &paint,
+                            FillRule::Winding,
+                            Transform::identity(),
+                            None,
+                        );
+                    }
+                }
+            }
+        }
     }
 }
 

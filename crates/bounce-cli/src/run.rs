@@ -23,7 +23,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::checkpoint;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
-use crate::stats_csv::{StatsCsv, Totals, read_history};
+use crate::stats_csv::{ObstacleColumns, StatsCsv, Totals, read_history};
 use bounce_scenario::gsd::GsdWriter;
 
 /// What `bounce run` was asked to do.
@@ -113,10 +113,11 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let clock = Instant::now();
     let mut output_time = 0.0;
     let mut collisions = 0usize;
+    let dt = session.dt;
     let stepped = session.run_until(total, |world, stats| -> Result<_> {
         let t = Instant::now();
         collisions += stats.pairs;
-        outputs.stats.totals.add(stats);
+        outputs.stats.totals.add(stats, world, dt);
         outputs.record(world)?;
         progress.inc(1);
         output_time += t.elapsed().as_secs_f64();
@@ -206,7 +207,7 @@ fn overflowed(
     let dt = outputs.dt;
     while world.step_count() < step {
         let stats = *world.step(dt)?;
-        totals.add(&stats);
+        totals.add(&stats, &world, dt);
         if schedule.on(schedule.output.stats_every, world.step_count()) {
             totals.reset(true);
         }
@@ -333,7 +334,7 @@ impl Outputs {
             session,
             dir,
             schedule,
-            StatsCsv::create(dir, total_mass)?,
+            StatsCsv::create(dir, total_mass, ObstacleColumns::of(session))?,
             gsd,
             total_mass,
         )?;
@@ -353,7 +354,13 @@ impl Outputs {
         // there (not the extra last step of a stopped run).
         let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
         let spec = &schedule.output;
-        let stats = StatsCsv::resume(dir, total_mass, keep(spec.stats_every), run)?;
+        let stats = StatsCsv::resume(
+            dir,
+            total_mass,
+            ObstacleColumns::of(session),
+            keep(spec.stats_every),
+            run,
+        )?;
         let gsd = if spec.gsd_every > 0 {
             Some(GsdWriter::resume(
                 &dir.join("trajectory.gsd"),
@@ -394,6 +401,7 @@ impl Outputs {
                 session.colour_by,
                 session.colours.clone(),
             )
+            .with_obstacle_colours(session.obstacle_colours())
         });
         if painter.is_some() {
             std::fs::create_dir_all(dir.join("frames"))

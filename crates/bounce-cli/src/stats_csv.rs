@@ -7,6 +7,12 @@
 //! cover the steps since the previous row (the first row, at the starting step, has zeros
 //! there).
 //!
+//! Obstacles add columns: for each `[[obstacle]]` with a `name`, the mean force on it since
+//! the previous row (`force_NAME_x`, `force_NAME_y`: momentum received over time) and, when
+//! it moves, where it is (`NAME_x`, `NAME_y`: its first piece's centre); with any moving
+//! obstacle, `obstacle_work`, the work the moving obstacles have done on the discs since the
+//! start.
+//!
 //! A run that stops early (Ctrl-C, SIGTERM) writes a row for its last step too. A resumed
 //! run drops the rows after its checkpoint's step, and that extra row, and continues from
 //! the totals the checkpoint kept, so its file equals an uninterrupted run's byte for byte.
@@ -15,7 +21,9 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use bounce::{StepStats, World};
+use std::ops::Range;
+
+use bounce::{Shape, StepStats, World};
 use bounce_scenario::atomic::AtomicFile;
 use bounce_scenario::checkpoint::RunState;
 
@@ -35,8 +43,82 @@ pub const COLUMNS: [&str; 12] = [
     "substeps",
 ];
 
+/// The obstacle columns of a scenario: its named groups and whether any obstacle moves.
+#[derive(Clone, Debug, Default)]
+pub struct ObstacleColumns {
+    /// Name, pieces, moving.
+    groups: Vec<(String, Range<usize>, bool)>,
+    /// Whether to write `obstacle_work`.
+    work: bool,
+}
+
+impl ObstacleColumns {
+    /// The columns for `session`'s obstacles.
+    pub fn of(session: &bounce_scenario::Session) -> Self {
+        let groups = session.scenario.obstacle_groups();
+        ObstacleColumns {
+            work: groups.iter().any(|g| g.moving),
+            groups: groups
+                .into_iter()
+                .filter_map(|g| Some((g.name?, g.range, g.moving)))
+                .collect(),
+        }
+    }
+
+    /// The header: the fixed columns, then these.
+    fn header(&self) -> Vec<String> {
+        let mut out: Vec<String> = COLUMNS.iter().map(|c| c.to_string()).collect();
+        for (name, _, moving) in &self.groups {
+            out.push(format!("force_{name}_x"));
+            out.push(format!("force_{name}_y"));
+            if *moving {
+                out.push(format!("{name}_x"));
+                out.push(format!("{name}_y"));
+            }
+        }
+        if self.work {
+            out.push("obstacle_work".into());
+        }
+        out
+    }
+
+    /// This row's values of these columns.
+    fn values(&self, world: &World, totals: &RunState) -> Vec<String> {
+        let mut out = Vec::new();
+        let shapes = world.obstacle_shapes();
+        for (_, range, moving) in &self.groups {
+            let mut impulse = [0.0, 0.0];
+            for k in range.clone() {
+                if let Some(j) = totals.obstacle_impulse.get(k) {
+                    impulse[0] += j[0];
+                    impulse[1] += j[1];
+                }
+            }
+            for j in impulse {
+                out.push(if totals.elapsed > 0.0 {
+                    (j / totals.elapsed).to_string()
+                } else {
+                    "0".into()
+                });
+            }
+            if *moving {
+                let centre = match shapes.get(range.start) {
+                    Some(Shape::Segment { a, b }) => [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0],
+                    Some(Shape::Peg { centre, .. }) => *centre,
+                    None => [f64::NAN; 2],
+                };
+                out.extend(centre.map(|v| v.to_string()));
+            }
+        }
+        if self.work {
+            out.push(world.obstacle_work().to_string());
+        }
+        out
+    }
+}
+
 /// Running totals since the previous row.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Totals {
     /// Since the previous row of any kind: what the next row reports.
     row: RunState,
@@ -49,17 +131,24 @@ impl Totals {
     /// Continues from a checkpoint's totals.
     pub fn resumed(run: RunState) -> Self {
         Totals {
-            row: run,
+            row: run.clone(),
             scheduled: run,
         }
     }
 
-    /// Adds one step.
-    pub fn add(&mut self, stats: &StepStats) {
+    /// Adds one step of `dt` that `world` just took.
+    pub fn add(&mut self, stats: &StepStats, world: &World, dt: f64) {
+        let impulses = world.obstacle_impulses();
         for t in [&mut self.row, &mut self.scheduled] {
             t.collisions += stats.pairs as u64;
             t.wall_impulse += stats.wall_impulse.total();
             t.max_overlap = t.max_overlap.max(stats.max_overlap);
+            t.elapsed += dt;
+            t.obstacle_impulse.resize(impulses.len(), [0.0; 2]);
+            for (sum, j) in t.obstacle_impulse.iter_mut().zip(impulses) {
+                sum[0] += j[0];
+                sum[1] += j[1];
+            }
         }
     }
 
@@ -73,7 +162,7 @@ impl Totals {
 
     /// What a checkpoint keeps.
     pub fn checkpoint(&self) -> RunState {
-        self.scheduled
+        self.scheduled.clone()
     }
 }
 
@@ -82,17 +171,19 @@ pub struct StatsCsv {
     writer: csv::Writer<AtomicFile>,
     pub totals: Totals,
     total_mass: f64,
+    obstacles: ObstacleColumns,
 }
 
 impl StatsCsv {
     /// Starts `stats.csv` in `dir`; `total_mass` is the sum of the discs' masses.
-    pub fn create(dir: &Path, total_mass: f64) -> Result<Self> {
+    pub fn create(dir: &Path, total_mass: f64, obstacles: ObstacleColumns) -> Result<Self> {
         let mut writer = csv::Writer::from_writer(AtomicFile::create(&dir.join("stats.csv"))?);
-        writer.write_record(COLUMNS)?;
+        writer.write_record(obstacles.header())?;
         Ok(StatsCsv {
             writer,
             totals: Totals::default(),
             total_mass,
+            obstacles,
         })
     }
 
@@ -102,17 +193,19 @@ impl StatsCsv {
     pub fn resume(
         dir: &Path,
         total_mass: f64,
+        obstacles: ObstacleColumns,
         keep: impl Fn(u64) -> bool,
         run: RunState,
     ) -> Result<Self> {
         let path = dir.join("stats.csv");
         let Ok(old) = std::fs::read_to_string(&path) else {
-            let mut fresh = StatsCsv::create(dir, total_mass)?;
+            let mut fresh = StatsCsv::create(dir, total_mass, obstacles)?;
             fresh.totals = Totals::resumed(run);
             return Ok(fresh);
         };
+        let header = obstacles.header().join(",");
         let mut lines = old.lines();
-        if lines.next() != Some(COLUMNS.join(",").as_str()) {
+        if lines.next() != Some(header.as_str()) {
             bail!(
                 "{}: not the stats.csv of this bounce (its header differs); resume into the \
                  run's own folder or use a new one",
@@ -120,7 +213,7 @@ impl StatsCsv {
             );
         }
         let mut file = AtomicFile::create(&path)?;
-        writeln!(file, "{}", COLUMNS.join(","))?;
+        writeln!(file, "{header}")?;
         for line in lines {
             let step: u64 = line
                 .split(',')
@@ -137,6 +230,7 @@ impl StatsCsv {
                 .from_writer(file),
             totals: Totals::resumed(run),
             total_mass,
+            obstacles,
         })
     }
 
@@ -145,8 +239,9 @@ impl StatsCsv {
     pub fn row(&mut self, world: &World, scheduled: bool) -> Result<()> {
         let s = world.stats();
         let temperature = bounce_scenario::analysis::temperature(world, self.total_mass);
-        let t = self.totals.row;
-        self.writer.write_record([
+        let t = &self.totals.row;
+        let extra = self.obstacles.values(world, t);
+        let mut record = vec![
             world.step_count().to_string(),
             world.time().to_string(),
             s.kinetic_energy.to_string(),
@@ -159,7 +254,9 @@ impl StatsCsv {
             bounce_scenario::analysis::potential_energy(world).to_string(),
             s.pressure.map_or_else(String::new, |p| p.to_string()),
             s.substeps.to_string(),
-        ])?;
+        ];
+        record.extend(extra);
+        self.writer.write_record(record)?;
         self.totals.reset(scheduled);
         Ok(())
     }

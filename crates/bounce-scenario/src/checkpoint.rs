@@ -26,7 +26,7 @@ const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
 /// What a run's outputs had accumulated since their last `stats.csv` row when the checkpoint
 /// was written, so a resumed run continues the same rows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RunState {
     /// Colliding pairs since the last row.
     pub collisions: u64,
@@ -34,6 +34,10 @@ pub struct RunState {
     pub wall_impulse: f64,
     /// Largest overlap since the last row.
     pub max_overlap: f64,
+    /// Simulated time since the last row.
+    pub elapsed: f64,
+    /// Momentum each obstacle received since the last row (empty without obstacles).
+    pub obstacle_impulse: Vec<[f64; 2]>,
 }
 
 /// A decoded checkpoint.
@@ -79,7 +83,7 @@ pub fn fingerprint(world: &World) -> u64 {
 pub fn encode(world: &World, run: Option<&RunState>) -> Result<Vec<u8>, String> {
     let payload = postcard::to_stdvec(&Body {
         world,
-        run: run.copied(),
+        run: run.cloned(),
     })
     .map_err(|e| format!("cannot encode the checkpoint: {e}"))?;
     let mut bytes = Vec::with_capacity(HEADER + payload.len());
@@ -157,6 +161,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         mass_model,
         restitution_model,
         velocity_update,
+        obstacles,
     } = a;
     let mut out = Vec::new();
     let mut differ = |field: &str, x: String, y: String| {
@@ -191,6 +196,16 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         f(&b.restitution_model),
     );
     differ("velocity_update", f(velocity_update), f(&b.velocity_update));
+    if obstacles != &b.obstacles {
+        differ(
+            "obstacles",
+            format!("{} obstacles", obstacles.len()),
+            format!("{} obstacles (or different ones)", b.obstacles.len()),
+        );
+        if out.is_empty() {
+            out.push("obstacles: the same count, different shapes or motions".into());
+        }
+    }
     out
 }
 
@@ -236,6 +251,8 @@ mod tests {
             collisions: 3,
             wall_impulse: 0.25,
             max_overlap: 0.0,
+            elapsed: 0.5,
+            obstacle_impulse: vec![[1.0, -2.0]],
         };
         let bytes = encode(&world, Some(&run)).unwrap();
         let back = decode(&bytes, "c").unwrap();

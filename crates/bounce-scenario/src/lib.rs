@@ -22,12 +22,14 @@ pub mod analysis;
 pub mod atomic;
 pub mod checkpoint;
 mod colour;
+pub mod obstacles;
+pub use obstacles::{ObstacleGroup, ObstacleSpec};
 #[cfg(not(target_arch = "wasm32"))]
 pub mod gsd;
 pub mod palette;
 mod session;
 pub use colour::{Rgb, parse_colour, ramp};
-pub use session::{Session, TimeStepReport, view_bounds};
+pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
@@ -69,6 +71,9 @@ pub struct Scenario {
     /// Single discs.
     #[serde(default)]
     pub disc: Vec<Spanned<DiscSpec>>,
+    /// Segments, polylines, boxes and pegs, fixed or moving.
+    #[serde(default)]
+    pub obstacle: Vec<Spanned<ObstacleSpec>>,
     /// What to write.
     #[serde(default)]
     pub output: OutputSpec,
@@ -588,7 +593,19 @@ impl Scenario {
             mass_model: w.mass_model,
             restitution_model: w.restitution_model,
             velocity_update: w.velocity_update,
+            obstacles: self
+                .obstacle
+                .iter()
+                .flat_map(|o| o.get_ref().expand())
+                .collect(),
         }
+    }
+
+    /// The `[[obstacle]]` tables' groups: names, colours and where their pieces are in
+    /// `Config::obstacles`.
+    pub fn obstacle_groups(&self) -> Vec<ObstacleGroup> {
+        let specs: Vec<ObstacleSpec> = self.obstacle.iter().map(|o| o.get_ref().clone()).collect();
+        obstacles::groups(&specs)
     }
 
     /// Total particles the scenario asks for; `None` when the count overflows 64 bits.
@@ -645,7 +662,31 @@ impl Scenario {
                 }
             }
         }
+        for (k, o) in self.obstacle.iter().enumerate() {
+            let line = Some(line_at(source, o.span().start));
+            for message in o.get_ref().problems() {
+                at(line, format!("obstacle #{}: {message}", k + 1));
+            }
+        }
         for e in self.config().problems() {
+            if e.field == "obstacles" {
+                // `obstacle K: FIELD VALUE`: point at the K-th table.
+                let k = e.value.trim_start_matches("obstacle ").split(':').next();
+                let k: Option<usize> = k.and_then(|k| k.parse().ok());
+                let groups = self.obstacle_groups();
+                let table = k.and_then(|k| groups.iter().position(|g| g.range.contains(&k)));
+                let line = table.map(|t| line_at(source, self.obstacle[t].span().start));
+                at(
+                    line,
+                    format!(
+                        "obstacle #{}: {}: {}",
+                        table.map_or(0, |t| t + 1),
+                        e.value.split_once(": ").map_or(&*e.value, |(_, v)| v),
+                        e.expected
+                    ),
+                );
+                continue;
+            }
             let key = e.field.split('.').next_back().unwrap_or(e.field);
             let key = if key == "boundary" { "max" } else { key };
             let line = line_of_key(source, "world", key)

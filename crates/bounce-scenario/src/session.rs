@@ -13,6 +13,9 @@ use bounce::{StepError, StepStats, World};
 
 use crate::{ColorBy, Limits, OutputSpec, Problem, Rgb, Scenario, ScenarioError};
 
+/// How obstacles are drawn when their table sets no colour.
+pub const OBSTACLE_GREY: Rgb = [170, 176, 190];
+
 /// A scenario ready to run.
 #[derive(Debug)]
 pub struct Session {
@@ -97,6 +100,20 @@ impl Session {
             }],
         })?;
         Session::from_text(&origin, &text)
+    }
+
+    /// The colour of each obstacle, in `Config::obstacles` order: its table's `color`, else
+    /// [`OBSTACLE_GREY`].
+    pub fn obstacle_colours(&self) -> Vec<Rgb> {
+        let mut out = vec![OBSTACLE_GREY; self.world.config().obstacles.len()];
+        for group in self.scenario.obstacle_groups() {
+            for k in group.range.clone() {
+                if let (Some(slot), Some(c)) = (out.get_mut(k), group.colour) {
+                    *slot = c;
+                }
+            }
+        }
+        out
     }
 
     /// A session of a shipped scenario (`gas`, `pile`, ...: [`crate::TEMPLATES`]).

@@ -8,6 +8,8 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::obstacles::Obstacle;
+
 /// Simulation parameters. Build with [`Config::default`] and change what you need.
 ///
 /// ```
@@ -66,6 +68,9 @@ pub struct Config {
     /// Which detected pairs get the velocity update. Default [`VelocityUpdate::AllDetected`],
     /// the seed's.
     pub velocity_update: VelocityUpdate,
+    /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
+    /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
+    pub obstacles: Vec<Obstacle>,
 }
 
 /// The most substeps a step may have ([`Config::substeps`]).
@@ -84,6 +89,7 @@ impl Default for Config {
             mass_model: MassModel::Radius,
             restitution_model: RestitutionModel::ScaleEachNormalVelocity,
             velocity_update: VelocityUpdate::AllDetected,
+            obstacles: Vec::new(),
         }
     }
 }
@@ -292,6 +298,15 @@ impl Config {
                 w.to_string(),
                 "must be in [0, 1]",
             );
+        }
+        for (k, obstacle) in self.obstacles.iter().enumerate() {
+            if let Some((field, value, expected)) = obstacle.problem() {
+                err(
+                    "obstacles",
+                    format!("obstacle {k}: {field} {value}"),
+                    expected,
+                );
+            }
         }
         out
     }

@@ -45,6 +45,7 @@ mod context;
 mod geometry;
 mod integrate;
 pub mod law;
+mod obstacles;
 mod parallel;
 mod particles;
 mod resolve;
@@ -56,6 +57,7 @@ pub use config::{
     Boundary, Config, ConfigError, MAX_SUBSTEPS, MassModel, RestitutionModel, VelocityUpdate,
 };
 pub use geometry::WallImpulse;
+pub use obstacles::{Motion, Obstacle, ObstacleState, Shape};
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};

@@ -11,6 +11,7 @@ use thiserror::Error;
 use crate::config::{Boundary, Config};
 use crate::geometry::Geometry;
 use crate::law::Law;
+use crate::obstacles::{ObstacleState, Obstacles};
 use crate::particles::Particle;
 
 /// How a generator sets velocities.
@@ -201,6 +202,15 @@ pub fn gas_among(
         head[cell] = all.len() as u32;
         all.push((q.position, q.radius));
     }
+    // Obstacles keep discs off them too (at their starting places).
+    let obstacles = (!config.obstacles.is_empty()).then(|| {
+        let states: Vec<ObstacleState> = config
+            .obstacles
+            .iter()
+            .map(|_| ObstacleState::default())
+            .collect();
+        Obstacles::new(config, &states, r_hi)
+    });
     // Partners reach at most this far.
     let r_far = existing.iter().map(|q| q.radius).fold(r_hi, f64::max);
     let mut placed: Vec<Particle> = Vec::with_capacity(spec.count);
@@ -219,6 +229,9 @@ pub fn gas_among(
                 [0, 1].map(|a| min[a] + margin + (size[a] - 2.0 * margin) * rng.random::<f64>());
             let pos = [0, 1].map(|a| if pos[a] >= max[a] { min[a] } else { pos[a] });
             let c = cell_of(pos);
+            if obstacles.as_ref().is_some_and(|o| o.blocks(pos, r, &law)) {
+                continue 'attempt;
+            }
             let clear = |q: &([f64; 2], f64)| {
                 let dxp = min_image(pos[0] - q.0[0], 0);
                 let dyp = min_image(pos[1] - q.0[1], 1);

@@ -34,6 +34,10 @@ pub struct StepStats {
     /// The substeps the step took: `Config::substeps`, or more when `Config::max_travel`
     /// asked for them.
     pub substeps: u32,
+    /// Work done on the discs by moving obstacles during the step, `Σ J · u` over their
+    /// collisions (`J` the disc's impulse, `u` the obstacle's velocity): what a piston puts
+    /// into the gas.
+    pub obstacle_work: f64,
 }
 
 /// Wall-clock seconds spent in each stage of the last step, summed over its substeps.

@@ -18,6 +18,7 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::integrate::integrate;
 use crate::law::Law;
+use crate::obstacles::{self, ObstacleState, Obstacles, Shape};
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
@@ -53,6 +54,15 @@ pub struct World {
     /// storage order, and so the last bits of the energy and impulse sums.
     #[serde(rename = "reference", serialize_with = "serialize_reference")]
     broadphase: Broadphase,
+    /// Where each obstacle of the configuration is and how fast it moves (moving ones).
+    obstacle_states: Vec<ObstacleState>,
+    /// The momentum each obstacle received in the last step.
+    obstacle_impulses: Vec<[f64; 2]>,
+    /// The work moving obstacles have done on the discs since the start.
+    obstacle_work: f64,
+    /// The obstacles binned for the step; `None` until the next step builds them.
+    #[serde(skip)]
+    obstacles: Option<Obstacles>,
     #[serde(skip)]
     contacts: Contacts,
     #[serde(skip)]
@@ -106,6 +116,7 @@ impl World {
     /// An empty world; fails if the configuration is invalid.
     pub fn new(config: Config) -> Result<World, ConfigError> {
         config.validate()?;
+        let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
         Ok(World {
             config,
             particles: Particles::default(),
@@ -116,6 +127,10 @@ impl World {
             profile: StepProfile::default(),
             measured: Measured::default(),
             broadphase: Broadphase::default(),
+            obstacle_states,
+            obstacle_impulses: vec![[0.0; 2]; obstacle_count],
+            obstacle_work: 0.0,
+            obstacles: None,
             contacts: Contacts::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
@@ -138,7 +153,12 @@ impl World {
                 .admit([p.x[i], p.y[i]], p.radius[i], &law)
                 .map_err(|error| WorldError::Particle { id: p.id[i], error })?;
         }
+        if config.obstacles != self.config.obstacles {
+            self.obstacle_states = initial_states(&config);
+            self.obstacle_impulses = vec![[0.0; 2]; config.obstacles.len()];
+        }
         self.config = config;
+        self.obstacles = None;
         self.broadphase.invalidate();
         self.refresh_stats();
         Ok(())
@@ -178,6 +198,7 @@ impl World {
         }
         self.next_id += ids.len() as u32;
         self.index_of = OnceLock::new();
+        self.obstacles = None;
         self.broadphase.invalidate();
         self.refresh_stats();
         Ok(ids)
@@ -213,6 +234,7 @@ impl World {
         }
         let substeps = self.substeps_for(dt);
         let h = dt / substeps as f64;
+        self.prepare_obstacles();
         let ctx = StepContext::new(&self.config, h, &self.exec);
         let mut stats = StepStats {
             substeps,
@@ -223,7 +245,13 @@ impl World {
         let mut reordered = false;
         let mut finite = true;
         let mut virial = 0.0;
+        let obstacles = self.obstacles.as_mut().expect("prepared");
+        let mut obstacle_impulses = vec![[0.0; 2]; self.config.obstacles.len()];
         'substeps: for _ in 0..substeps {
+            if !obstacles.is_empty() {
+                obstacles::advance(&self.config, &mut self.obstacle_states, h);
+                obstacles.place(&self.config, &self.obstacle_states);
+            }
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
@@ -255,6 +283,31 @@ impl World {
                 }
                 profile.pairs += clock.lap();
                 virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
+                if !obstacles.is_empty() {
+                    let velocities: Vec<[f64; 2]> =
+                        self.obstacle_states.iter().map(|s| s.velocity).collect();
+                    let impacts = obstacles::resolve_obstacles(
+                        &mut self.particles,
+                        obstacles,
+                        &velocities,
+                        &ctx.law,
+                        &self.exec,
+                        |x, y, r| ctx.geometry.hold(x, y, r),
+                    );
+                    stats.obstacle_work += impacts.work;
+                    for (k, j) in impacts.list {
+                        let k = k as usize;
+                        obstacle_impulses[k][0] += j[0];
+                        obstacle_impulses[k][1] += j[1];
+                        // A driven obstacle takes the discs' momentum.
+                        if let crate::Motion::Driven { mass, .. } = self.config.obstacles[k].motion
+                        {
+                            let state = &mut self.obstacle_states[k];
+                            state.velocity[0] += j[0] / mass;
+                            state.velocity[1] += j[1] / mass;
+                        }
+                    }
+                }
                 if self.config.solver_iterations > 1 {
                     stats
                         .wall_impulse
@@ -290,6 +343,8 @@ impl World {
         self.measured = measured;
         profile.measure += clock.lap();
         self.stats = stats;
+        self.obstacle_impulses = obstacle_impulses;
+        self.obstacle_work += stats.obstacle_work;
         self.profile = profile;
         self.time += dt;
         self.steps += 1;
@@ -305,6 +360,46 @@ impl World {
             });
         }
         Ok(&self.stats)
+    }
+
+    /// Builds the obstacles' grid when the configuration or the discs changed.
+    fn prepare_obstacles(&mut self) {
+        if self.obstacles.is_none() {
+            let max_radius = self.particles.radius.iter().copied().fold(0.0, f64::max);
+            self.obstacles = Some(Obstacles::new(
+                &self.config,
+                &self.obstacle_states,
+                max_radius,
+            ));
+        }
+    }
+
+    /// The obstacles where they are now (moving ones moved), in the configuration's order.
+    pub fn obstacle_shapes(&self) -> Vec<Shape> {
+        self.config
+            .obstacles
+            .iter()
+            .zip(&self.obstacle_states)
+            .map(|(o, s)| o.shifted(s.offset))
+            .collect()
+    }
+
+    /// Where each obstacle is (its offset from the configured shape) and how fast it moves.
+    pub fn obstacle_states(&self) -> &[ObstacleState] {
+        &self.obstacle_states
+    }
+
+    /// The work the moving obstacles have done on the discs since the start (the sum of
+    /// [`StepStats::obstacle_work`]): with elastic collisions, the gain in kinetic energy a
+    /// piston gave the gas.
+    pub fn obstacle_work(&self) -> f64 {
+        self.obstacle_work
+    }
+
+    /// The momentum each obstacle received during the last step (divide by `dt` for the
+    /// force), in the configuration's order.
+    pub fn obstacle_impulses(&self) -> &[[f64; 2]] {
+        &self.obstacle_impulses
     }
 
     /// The substeps a step of `dt` takes: `config.substeps`, or with `config.max_travel` as
@@ -591,4 +686,16 @@ impl World {
         (self.stats.kinetic_energy, self.stats.momentum) =
             (self.measured.kinetic_energy, self.measured.momentum);
     }
+}
+
+/// Every obstacle at its configured place with its starting velocity.
+fn initial_states(config: &Config) -> Vec<ObstacleState> {
+    config
+        .obstacles
+        .iter()
+        .map(|o| ObstacleState {
+            offset: [0.0, 0.0],
+            velocity: o.initial_velocity(),
+        })
+        .collect()
 }

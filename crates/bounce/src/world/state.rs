@@ -8,6 +8,7 @@ use crate::broadphase::{Broadphase, Reference};
 use crate::config::Config;
 use crate::geometry::Geometry;
 use crate::law::Law;
+use crate::obstacles::ObstacleState;
 use crate::particles::{Particle, Particles};
 use crate::stats::StepStats;
 
@@ -21,6 +22,9 @@ pub(super) struct WorldState {
     pub(super) steps: u64,
     pub(super) stats: StepStats,
     pub(super) reference: Reference,
+    pub(super) obstacle_states: Vec<ObstacleState>,
+    pub(super) obstacle_impulses: Vec<[f64; 2]>,
+    pub(super) obstacle_work: f64,
 }
 
 pub(super) fn serialize_reference<S: serde::Serializer>(
@@ -92,6 +96,33 @@ impl TryFrom<WorldState> for World {
             )));
         }
         state.reference.check(n).map_err(WorldError::Inconsistent)?;
+        let obstacles = world.config.obstacles.len();
+        if state.obstacle_states.len() != obstacles || state.obstacle_impulses.len() != obstacles {
+            return Err(WorldError::Inconsistent(format!(
+                "{obstacles} obstacles but {} states and {} impulses",
+                state.obstacle_states.len(),
+                state.obstacle_impulses.len()
+            )));
+        }
+        let finite = |v: &[f64; 2]| v.iter().all(|x| x.is_finite());
+        if !state
+            .obstacle_states
+            .iter()
+            .all(|s| finite(&s.offset) && finite(&s.velocity))
+        {
+            return Err(WorldError::Inconsistent(
+                "an obstacle's offset or velocity is not finite".into(),
+            ));
+        }
+        world.obstacle_states = state.obstacle_states;
+        world.obstacle_impulses = state.obstacle_impulses;
+        if !state.obstacle_work.is_finite() {
+            return Err(WorldError::Inconsistent(format!(
+                "obstacle work {} is not finite",
+                state.obstacle_work
+            )));
+        }
+        world.obstacle_work = state.obstacle_work;
         world.broadphase.reference = state.reference;
         world.particles = state.particles;
         world.next_id = state.next_id;

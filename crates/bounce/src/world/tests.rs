@@ -108,6 +108,9 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         steps: world.steps,
         stats: world.stats,
         reference,
+        obstacle_states: Vec::new(),
+        obstacle_impulses: Vec::new(),
+        obstacle_work: 0.0,
     };
     let error = World::try_from(state).unwrap_err().to_string();
     assert!(

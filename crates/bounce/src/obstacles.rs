@@ -1,0 +1,748 @@
+//! Obstacles: segments and pegs that discs collide with, fixed or moving (a piston).
+//!
+//! An obstacle is an immovable body in the seed's collision rule: a disc of radius `r`
+//! collides with a segment when its centre is within `r * collision_radius_scale` of the
+//! segment's nearest point (ends and corners included: the normal runs from that point), and
+//! with a peg of radius `R` when within `(r + R) * collision_radius_scale` of its centre. A
+//! colliding disc is pushed out of the overlap by the whole amount (the obstacle does not
+//! move), and if it moves into the obstacle (in the obstacle's frame, for a moving one) its
+//! normal velocity is reversed and scaled by the obstacle's restitution; the tangential
+//! velocity is kept. Unlike the seed's pairs, a disc already leaving is not turned back:
+//! with an immovable partner the seed's step 6 would send it into the obstacle again.
+//!
+//! Fixed obstacles are binned once in a uniform grid whose cells list every obstacle within
+//! reach of any point inside them, so a disc looks at one cell: a board of 10,000 pegs costs
+//! what the discs near pegs cost. Moving obstacles (a few pistons) are tested against every
+//! disc. Each disc is resolved alone against the obstacles near it, in obstacle order, so the
+//! pass runs in parallel chunks and gives the same bits on any thread count; the momentum
+//! each obstacle receives is summed per chunk and then in chunk order.
+//!
+//! A disc that moves more than its radius in one substep can pass through a segment between
+//! two passes; `Config::max_travel` bounds the travel per substep (`max_travel = 1` or less
+//! keeps every disc from tunnelling).
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::Config;
+use crate::law::{COINCIDENT_NORMAL, Law};
+use crate::parallel::{CHUNK, Executor};
+use crate::particles::Particles;
+
+/// The shape of an obstacle.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// The segment from `a` to `b` (a wall at any angle; polylines and boxes are made of
+    /// segments).
+    Segment {
+        /// One end.
+        a: [f64; 2],
+        /// The other end.
+        b: [f64; 2],
+    },
+    /// A fixed disc (a peg).
+    Peg {
+        /// Centre.
+        centre: [f64; 2],
+        /// Radius, `> 0`.
+        radius: f64,
+    },
+}
+
+/// How an obstacle moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Motion {
+    /// It does not move (the default).
+    #[default]
+    Fixed,
+    /// At a prescribed constant velocity.
+    Velocity([f64; 2]),
+    /// A body of `mass` under a constant external `force`, starting at `velocity`, moved by
+    /// the discs' impulses too (a piston under a weight).
+    Driven {
+        /// The external force.
+        force: [f64; 2],
+        /// The obstacle's mass, `> 0`.
+        mass: f64,
+        /// Its velocity at the start.
+        velocity: [f64; 2],
+    },
+}
+
+/// An obstacle: a shape, its restitution and how it moves.
+///
+/// ```
+/// use bounce::{Boundary, Config, Obstacle, Particle, World};
+/// // A floor at 45 degrees: a disc falling straight down leaves sideways.
+/// let config = Config {
+///     obstacles: vec![Obstacle::segment([-10.0, 10.0], [10.0, -10.0])],
+///     ..Config::default()
+/// };
+/// let mut world = World::new(config)?;
+/// world.add_particle(Particle::new([2.0, 3.0], [0.0, -4.0], 0.5))?;
+/// for _ in 0..200 {
+///     world.step(0.01)?;
+/// }
+/// let v = world.particle(bounce::ParticleId(0)).unwrap().velocity;
+/// assert!(v[0] > 3.9 && v[1].abs() < 1e-9, "{v:?}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    /// Where it is (at time 0, for a moving one).
+    pub shape: Shape,
+    /// Restitution of discs hitting it, in `[0, 1]`. `None` (the default) uses the world's
+    /// coefficient of restitution.
+    pub restitution: Option<f64>,
+    /// Fixed (the default) or moving.
+    pub motion: Motion,
+}
+
+impl Obstacle {
+    /// A fixed segment from `a` to `b`.
+    pub fn segment(a: [f64; 2], b: [f64; 2]) -> Obstacle {
+        Obstacle::from(Shape::Segment { a, b })
+    }
+
+    /// A fixed peg.
+    pub fn peg(centre: [f64; 2], radius: f64) -> Obstacle {
+        Obstacle::from(Shape::Peg { centre, radius })
+    }
+
+    /// The segments joining consecutive `points` (closed: back to the first as well).
+    pub fn polyline(points: &[[f64; 2]], closed: bool) -> Vec<Obstacle> {
+        let mut out: Vec<Obstacle> = points
+            .windows(2)
+            .map(|w| Obstacle::segment(w[0], w[1]))
+            .collect();
+        if closed && points.len() > 2 {
+            out.push(Obstacle::segment(points[points.len() - 1], points[0]));
+        }
+        out
+    }
+
+    /// The four sides of a box of `size` centred at `centre`, rotated by `angle` radians
+    /// (counter-clockwise).
+    pub fn rectangle(centre: [f64; 2], size: [f64; 2], angle: f64) -> Vec<Obstacle> {
+        let (s, c) = (libm::sin(angle), libm::cos(angle));
+        let [hx, hy] = [size[0] / 2.0, size[1] / 2.0];
+        let corner = |x: f64, y: f64| [centre[0] + c * x - s * y, centre[1] + s * x + c * y];
+        let corners = [
+            corner(-hx, -hy),
+            corner(hx, -hy),
+            corner(hx, hy),
+            corner(-hx, hy),
+        ];
+        Obstacle::polyline(&corners, true)
+    }
+
+    /// This obstacle with its own restitution.
+    pub fn with_restitution(self, restitution: f64) -> Obstacle {
+        Obstacle {
+            restitution: Some(restitution),
+            ..self
+        }
+    }
+
+    /// This obstacle moving as `motion` says.
+    pub fn moving(self, motion: Motion) -> Obstacle {
+        Obstacle { motion, ..self }
+    }
+
+    /// The shape moved by `offset`.
+    pub fn shifted(&self, offset: [f64; 2]) -> Shape {
+        let add = |p: [f64; 2]| [p[0] + offset[0], p[1] + offset[1]];
+        match self.shape {
+            Shape::Segment { a, b } => Shape::Segment {
+                a: add(a),
+                b: add(b),
+            },
+            Shape::Peg { centre, radius } => Shape::Peg {
+                centre: add(centre),
+                radius,
+            },
+        }
+    }
+
+    /// What is wrong with it, if anything: `(field, value, expected)`.
+    pub(crate) fn problem(&self) -> Option<(&'static str, String, &'static str)> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        match self.shape {
+            Shape::Segment { a, b } => {
+                if !finite(&[a[0], a[1], b[0], b[1]]) {
+                    return Some(("segment", format!("{a:?} to {b:?}"), "ends must be finite"));
+                }
+                if a == b {
+                    return Some(("segment", format!("{a:?} to {b:?}"), "the ends must differ"));
+                }
+            }
+            Shape::Peg { centre, radius } => {
+                if !finite(&centre) {
+                    return Some(("peg.centre", format!("{centre:?}"), "must be finite"));
+                }
+                if !(radius.is_finite() && radius > 0.0) {
+                    return Some(("peg.radius", radius.to_string(), "must be finite and > 0"));
+                }
+            }
+        }
+        if let Some(e) = self.restitution
+            && !(0.0..=1.0).contains(&e)
+        {
+            return Some(("restitution", e.to_string(), "must be in [0, 1]"));
+        }
+        match self.motion {
+            Motion::Fixed => None,
+            Motion::Velocity(v) if !finite(&v) => {
+                Some(("velocity", format!("{v:?}"), "must be finite"))
+            }
+            Motion::Driven {
+                force,
+                mass,
+                velocity,
+            } => {
+                if !(finite(&force) && finite(&velocity)) {
+                    Some((
+                        "force",
+                        format!("force {force:?}, velocity {velocity:?}"),
+                        "must be finite",
+                    ))
+                } else if !(mass.is_finite() && mass > 0.0) {
+                    Some(("mass", mass.to_string(), "must be finite and > 0"))
+                } else {
+                    None
+                }
+            }
+            Motion::Velocity(_) => None,
+        }
+    }
+
+    /// The velocity at the start.
+    pub(crate) fn initial_velocity(&self) -> [f64; 2] {
+        match self.motion {
+            Motion::Fixed => [0.0, 0.0],
+            Motion::Velocity(v) => v,
+            Motion::Driven { velocity, .. } => velocity,
+        }
+    }
+}
+
+impl From<Shape> for Obstacle {
+    fn from(shape: Shape) -> Obstacle {
+        Obstacle {
+            shape,
+            restitution: None,
+            motion: Motion::Fixed,
+        }
+    }
+}
+
+/// Where a moving obstacle is and how fast it goes: its offset from the configured shape
+/// and its velocity. Part of the world's saved state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ObstacleState {
+    /// Displacement from the configured shape.
+    pub offset: [f64; 2],
+    /// Current velocity.
+    pub velocity: [f64; 2],
+}
+
+/// The obstacles in the form the step uses: the current shapes, the restitutions, and the
+/// grid over the fixed ones. Built by the world when the configuration or the largest disc
+/// changes.
+#[derive(Debug, Default)]
+pub(crate) struct Obstacles {
+    shapes: Vec<Shape>,
+    restitution: Vec<f64>,
+    /// Indices of the moving obstacles, tested against every disc.
+    moving: Vec<u32>,
+    grid: Grid,
+}
+
+/// A uniform grid over the fixed obstacles: `items[start[c]..start[c + 1]]` are the
+/// obstacles (ascending) within reach of some point of cell `c` for a disc of radius up to
+/// `Obstacles::built_for`.
+#[derive(Debug, Default)]
+struct Grid {
+    origin: [f64; 2],
+    inv_cell: f64,
+    dims: [usize; 2],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// At most this many grid cells.
+const MAX_CELLS: f64 = 4e6;
+
+impl Obstacles {
+    /// The obstacles of `config` with the moving ones at `states`, binned for discs of radius
+    /// up to `max_radius`.
+    pub(crate) fn new(config: &Config, states: &[ObstacleState], max_radius: f64) -> Obstacles {
+        let law = Law::new(config);
+        let list = &config.obstacles;
+        let shapes: Vec<Shape> = list
+            .iter()
+            .zip(states)
+            .map(|(o, s)| o.shifted(s.offset))
+            .collect();
+        let restitution = list
+            .iter()
+            .map(|o| o.restitution.unwrap_or(config.coefficient_of_restitution))
+            .collect();
+        let moving = (0..list.len() as u32)
+            .filter(|&k| list[k as usize].motion != Motion::Fixed)
+            .collect();
+        let fixed: Vec<u32> = (0..list.len() as u32)
+            .filter(|&k| list[k as usize].motion == Motion::Fixed)
+            .collect();
+        let grid = Grid::new(&shapes, &fixed, &law, max_radius);
+        Obstacles {
+            shapes,
+            restitution,
+            moving,
+            grid,
+        }
+    }
+
+    /// Whether there are none.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.shapes.is_empty()
+    }
+
+    /// Whether a disc of radius `r` (at most the radius the grid was built for) at `p`
+    /// collides with any obstacle: what placement avoids.
+    pub(crate) fn blocks(&self, p: [f64; 2], r: f64, law: &Law) -> bool {
+        let near = self.grid.near(p[0], p[1]);
+        near.iter()
+            .chain(&self.moving)
+            .any(|&k| touches(&self.shapes[k as usize], p, r, law))
+    }
+
+    /// Moves the moving obstacles to `states` (after `advance`).
+    pub(crate) fn place(&mut self, config: &Config, states: &[ObstacleState]) {
+        for &k in &self.moving {
+            let k = k as usize;
+            self.shapes[k] = config.obstacles[k].shifted(states[k].offset);
+        }
+    }
+}
+
+impl Grid {
+    fn new(shapes: &[Shape], fixed: &[u32], law: &Law, max_radius: f64) -> Grid {
+        if fixed.is_empty() {
+            return Grid::default();
+        }
+        // Each obstacle's reach for the largest disc, and the box of all of them.
+        let reach = |s: &Shape| match *s {
+            Shape::Segment { .. } => law.reach(max_radius),
+            Shape::Peg { radius, .. } => law.reach(max_radius + radius),
+        };
+        let bounds = |s: &Shape| -> [[f64; 2]; 2] {
+            let d = reach(s);
+            match *s {
+                Shape::Segment { a, b } => [
+                    [a[0].min(b[0]) - d, a[1].min(b[1]) - d],
+                    [a[0].max(b[0]) + d, a[1].max(b[1]) + d],
+                ],
+                Shape::Peg { centre, .. } => [
+                    [centre[0] - d, centre[1] - d],
+                    [centre[0] + d, centre[1] + d],
+                ],
+            }
+        };
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut widest = 0.0f64;
+        for &k in fixed {
+            let [l, h] = bounds(&shapes[k as usize]);
+            for a in 0..2 {
+                lo[a] = lo[a].min(l[a]);
+                hi[a] = hi[a].max(h[a]);
+            }
+            widest = widest.max(2.0 * reach(&shapes[k as usize]));
+        }
+        let size = [hi[0] - lo[0], hi[1] - lo[1]];
+        // Cells about one reach across (a disc's cell then lists only what is near it), no
+        // more than MAX_CELLS of them.
+        let cell = widest
+            .max((size[0] * size[1] / MAX_CELLS).sqrt())
+            .max(f64::MIN_POSITIVE);
+        let dims = [0, 1].map(|a| ((size[a] / cell).floor() as usize + 1).max(1));
+        let inv_cell = 1.0 / cell;
+        let cells = dims[0] * dims[1];
+        // Each obstacle into the cells of its box that come within its reach.
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let half_diagonal = cell * std::f64::consts::FRAC_1_SQRT_2;
+        for &k in fixed {
+            let shape = &shapes[k as usize];
+            let [l, h] = bounds(shape);
+            let c0 = [0, 1].map(|a| (((l[a] - lo[a]) * inv_cell) as usize).min(dims[a] - 1));
+            let c1 = [0, 1].map(|a| (((h[a] - lo[a]) * inv_cell) as usize).min(dims[a] - 1));
+            for cy in c0[1]..=c1[1] {
+                for cx in c0[0]..=c1[0] {
+                    let centre = [
+                        lo[0] + (cx as f64 + 0.5) * cell,
+                        lo[1] + (cy as f64 + 0.5) * cell,
+                    ];
+                    let (_, distance) = nearest(shape, centre);
+                    if distance <= reach(shape) + half_diagonal {
+                        pairs.push(((cy * dims[0] + cx) as u32, k));
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut start = vec![0u32; cells + 1];
+        for &(c, _) in &pairs {
+            start[c as usize + 1] += 1;
+        }
+        for c in 0..cells {
+            start[c + 1] += start[c];
+        }
+        Grid {
+            origin: lo,
+            inv_cell,
+            dims,
+            start,
+            items: pairs.into_iter().map(|(_, k)| k).collect(),
+        }
+    }
+
+    /// The fixed obstacles near `(x, y)`.
+    #[inline]
+    fn near(&self, x: f64, y: f64) -> &[u32] {
+        if self.items.is_empty() {
+            return &[];
+        }
+        let fx = (x - self.origin[0]) * self.inv_cell;
+        let fy = (y - self.origin[1]) * self.inv_cell;
+        // Outside the grid (or NaN): nothing is within reach.
+        if !(fx >= 0.0 && fy >= 0.0 && fx < self.dims[0] as f64 && fy < self.dims[1] as f64) {
+            return &[];
+        }
+        let c = fy as usize * self.dims[0] + fx as usize;
+        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+}
+
+/// The point of `shape` nearest to `p` (a peg's centre) and the distance from it (less the
+/// peg's radius, which the reach adds back: see [`reach_of`]).
+#[inline]
+fn nearest(shape: &Shape, p: [f64; 2]) -> ([f64; 2], f64) {
+    let q = match *shape {
+        Shape::Segment { a, b } => {
+            let ab = [b[0] - a[0], b[1] - a[1]];
+            let t =
+                ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1]);
+            let t = t.clamp(0.0, 1.0);
+            [a[0] + t * ab[0], a[1] + t * ab[1]]
+        }
+        Shape::Peg { centre, .. } => centre,
+    };
+    let d = [p[0] - q[0], p[1] - q[1]];
+    (q, (d[0] * d[0] + d[1] * d[1]).sqrt())
+}
+
+/// The collision distance of a disc of radius `r` and `shape`: `r s` for a segment,
+/// `(r + R) s` for a peg of radius `R`.
+#[inline]
+fn reach_of(shape: &Shape, r: f64, law: &Law) -> f64 {
+    match *shape {
+        Shape::Segment { .. } => law.reach(r),
+        Shape::Peg { radius, .. } => law.collision_distance(r, radius),
+    }
+}
+
+/// Whether a disc of radius `r` at `p` collides with `shape` (what placement avoids).
+fn touches(shape: &Shape, p: [f64; 2], r: f64, law: &Law) -> bool {
+    nearest(shape, p).1 <= reach_of(shape, r, law)
+}
+
+/// One disc as [`collide`] sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Disc {
+    pub position: [f64; 2],
+    pub velocity: [f64; 2],
+    pub radius: f64,
+    pub mass: f64,
+}
+
+/// A disc against one obstacle moving at `u` with restitution `e`: the disc's position and
+/// velocity updated, and the momentum given to the obstacle returned (zero when they do not
+/// collide or the disc already leaves).
+#[inline]
+pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut Disc) -> [f64; 2] {
+    let Disc {
+        position,
+        velocity,
+        radius: r,
+        mass: m,
+    } = disc;
+    let (r, m) = (*r, *m);
+    let (q, distance) = nearest(shape, *position);
+    let reach = reach_of(shape, r, law);
+    if distance > reach {
+        return [0.0, 0.0];
+    }
+    // The normal from the obstacle's nearest point to the centre; on the segment itself,
+    // its left normal (a fixed choice, as the seed's coincident normal).
+    let n = if distance > 0.0 {
+        [
+            (position[0] - q[0]) / distance,
+            (position[1] - q[1]) / distance,
+        ]
+    } else {
+        match *shape {
+            Shape::Segment { a, b } => {
+                let ab = [b[0] - a[0], b[1] - a[1]];
+                let l = (ab[0] * ab[0] + ab[1] * ab[1]).sqrt();
+                [-ab[1] / l, ab[0] / l]
+            }
+            Shape::Peg { .. } => COINCIDENT_NORMAL,
+        }
+    };
+    // Pushed out of the overlap by the whole amount.
+    if distance < reach {
+        let overlap = reach - distance;
+        position[0] += n[0] * overlap;
+        position[1] += n[1] * overlap;
+    }
+    // The normal velocity in the obstacle's frame, reversed and scaled if it moves in.
+    let vn = (velocity[0] - u[0]) * n[0] + (velocity[1] - u[1]) * n[1];
+    if vn >= 0.0 {
+        return [0.0, 0.0];
+    }
+    let dv = -(1.0 + e) * vn;
+    velocity[0] += dv * n[0];
+    velocity[1] += dv * n[1];
+    [-m * dv * n[0], -m * dv * n[1]]
+}
+
+/// What one pass of [`resolve_obstacles`] gave the obstacles.
+#[derive(Debug, Default)]
+pub(crate) struct Impacts {
+    /// `(obstacle, momentum)` per collision, in chunk order, then disc order.
+    pub list: Vec<(u32, [f64; 2])>,
+    /// Work done on the discs by moving obstacles, `Σ J_disc · u`.
+    pub work: f64,
+}
+
+/// Every disc against the obstacles near it (and the moving ones), in parallel chunks of
+/// storage order; `velocities[k]` is obstacle `k`'s velocity. The pushed discs are then
+/// kept inside the walls by `hold`.
+pub(crate) fn resolve_obstacles(
+    p: &mut Particles,
+    obstacles: &Obstacles,
+    velocities: &[[f64; 2]],
+    law: &Law,
+    exec: &Executor,
+    hold: impl Fn(&mut f64, &mut f64, f64) + Sync,
+) -> Impacts {
+    let radius = &p.radius;
+    let mass = &p.mass;
+    let n = p.x.len();
+    let mut chunks: Vec<_> =
+        p.x.chunks_mut(CHUNK)
+            .zip(p.y.chunks_mut(CHUNK))
+            .zip(p.vx.chunks_mut(CHUNK).zip(p.vy.chunks_mut(CHUNK)))
+            .enumerate()
+            .map(|(c, ((x, y), (vx, vy)))| (c * CHUNK, x, y, vx, vy))
+            .collect();
+    let partial = exec.map_mut(n, &mut chunks, |_, (base, x, y, vx, vy)| {
+        let mut out = Impacts::default();
+        for k in 0..x.len() {
+            let i = *base + k;
+            let near = obstacles.grid.near(x[k], y[k]);
+            if near.is_empty() && obstacles.moving.is_empty() {
+                continue;
+            }
+            let mut disc = Disc {
+                position: [x[k], y[k]],
+                velocity: [vx[k], vy[k]],
+                radius: radius[i],
+                mass: law.mass(radius[i], mass[i]),
+            };
+            let start = disc;
+            for &o in near.iter().chain(&obstacles.moving) {
+                let u = velocities[o as usize];
+                let before = disc.velocity;
+                let shape = &obstacles.shapes[o as usize];
+                let e = obstacles.restitution[o as usize];
+                let j = collide(shape, u, e, law, &mut disc);
+                if j != [0.0, 0.0] {
+                    out.list.push((o, j));
+                    // The work of the obstacle on the disc: the disc's impulse along `u`.
+                    let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
+                    out.work += disc.mass * (dv[0] * u[0] + dv[1] * u[1]);
+                }
+            }
+            if disc != start {
+                let [mut px, mut py] = disc.position;
+                hold(&mut px, &mut py, disc.radius);
+                (x[k], y[k], vx[k], vy[k]) = (px, py, disc.velocity[0], disc.velocity[1]);
+            }
+        }
+        out
+    });
+    let mut total = Impacts::default();
+    for part in partial {
+        total.list.extend(part.list);
+        total.work += part.work;
+    }
+    total
+}
+
+/// Advances the moving obstacles by one substep `h`: a prescribed velocity moves them, a
+/// driven one is accelerated by its force first (semi-implicit Euler, like the discs).
+pub(crate) fn advance(config: &Config, states: &mut [ObstacleState], h: f64) {
+    for (o, s) in config.obstacles.iter().zip(states.iter_mut()) {
+        match o.motion {
+            Motion::Fixed => continue,
+            Motion::Velocity(v) => s.velocity = v,
+            Motion::Driven { force, mass, .. } => {
+                s.velocity[0] += force[0] / mass * h;
+                s.velocity[1] += force[1] / mass * h;
+            }
+        }
+        s.offset[0] += s.velocity[0] * h;
+        s.offset[1] += s.velocity[1] * h;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn law() -> Law {
+        Law::new(&Config::default())
+    }
+
+    fn disc(position: [f64; 2], velocity: [f64; 2], radius: f64, mass: f64) -> Disc {
+        Disc {
+            position,
+            velocity,
+            radius,
+            mass,
+        }
+    }
+
+    #[test]
+    fn a_disc_hitting_a_segment_head_on_is_pushed_out_and_reflected() {
+        // A horizontal floor from (-5, 0) to (5, 0); a disc of radius 0.5 at height 0.4
+        // moving down at 2 with e = 0.5: pushed up by the whole overlap 0.1, vy = +1,
+        // the floor receives m (1 + e) 2 downwards.
+        let floor = Shape::Segment {
+            a: [-5.0, 0.0],
+            b: [5.0, 0.0],
+        };
+        let mut d = disc([1.0, 0.4], [3.0, -2.0], 0.5, 0.5);
+        let j = collide(&floor, [0.0; 2], 0.5, &law(), &mut d);
+        assert_eq!(d.position, [1.0, 0.5]);
+        assert_eq!(d.velocity, [3.0, 1.0]);
+        assert_eq!(j, [0.0, -0.5 * 1.5 * 2.0]);
+    }
+
+    #[test]
+    fn a_segment_end_acts_like_a_point() {
+        // The end (0, 0) of a segment to (-4, 0); a disc at (0.3, 0.4) (distance 0.5 from
+        // the end) of radius 1 moving at (-1, -1) towards it: normal (0.6, 0.8), overlap
+        // 0.5, so the centre goes to (0.6, 0.8); vn = -1.4, reversed at e = 1: v = (0.68, 1.24).
+        let segment = Shape::Segment {
+            a: [-4.0, 0.0],
+            b: [0.0, 0.0],
+        };
+        let mut d = disc([0.3, 0.4], [-1.0, -1.0], 1.0, 1.0);
+        collide(&segment, [0.0; 2], 1.0, &law(), &mut d);
+        let (p, v) = (d.position, d.velocity);
+        assert!(
+            (p[0] - 0.6).abs() < 1e-15 && (p[1] - 0.8).abs() < 1e-15,
+            "{p:?}"
+        );
+        assert!(
+            (v[0] - 0.68).abs() < 1e-15 && (v[1] - 1.24).abs() < 1e-15,
+            "{v:?}"
+        );
+    }
+
+    #[test]
+    fn a_peg_uses_the_sum_of_radii_and_keeps_the_tangential_velocity() {
+        // Peg of radius 1 at the origin, disc of radius 0.5 at (1.2, 0) moving at (-2, 3)
+        // with collision_radius_scale 1: overlap 0.3, pushed to (1.5, 0); vn = -2 reversed
+        // at e = 0.8 gives 1.6; vt = 3 kept.
+        let peg = Shape::Peg {
+            centre: [0.0, 0.0],
+            radius: 1.0,
+        };
+        let mut d = disc([1.2, 0.0], [-2.0, 3.0], 0.5, 2.0);
+        let j = collide(&peg, [0.0; 2], 0.8, &law(), &mut d);
+        assert_eq!(d.position, [1.5, 0.0]);
+        assert_eq!(d.velocity, [1.6, 3.0]);
+        assert_eq!(j, [-2.0 * 3.6, 0.0]);
+        // A disc leaving the peg is pushed out but keeps its velocity.
+        let mut d = disc([1.2, 0.0], [2.0, 0.0], 0.5, 2.0);
+        assert_eq!(collide(&peg, [0.0; 2], 0.8, &law(), &mut d), [0.0, 0.0]);
+        assert_eq!((d.position, d.velocity), ([1.5, 0.0], [2.0, 0.0]));
+    }
+
+    #[test]
+    fn a_moving_wall_reflects_in_its_own_frame() {
+        // A floor rising at 1: a disc at rest on it leaves at 2 (e = 1), and the disc's
+        // kinetic energy gain equals the work J_disc · u.
+        let floor = Shape::Segment {
+            a: [-5.0, 0.0],
+            b: [5.0, 0.0],
+        };
+        let mut d = disc([0.0, 0.5], [0.0, 0.0], 0.5, 1.0);
+        let j = collide(&floor, [0.0, 1.0], 1.0, &law(), &mut d);
+        let v = d.velocity;
+        assert_eq!(v, [0.0, 2.0]);
+        assert_eq!(j, [0.0, -2.0]);
+        let gain = 0.5 * (v[0] * v[0] + v[1] * v[1]);
+        assert_eq!(gain, -j[1] * 1.0);
+    }
+
+    #[test]
+    fn the_grid_lists_every_obstacle_within_reach() {
+        // Random pegs and segments; every disc position that touches an obstacle finds it
+        // in its cell.
+        let config = Config {
+            collision_radius_scale: 1.3,
+            ..Config::default()
+        };
+        let law = Law::new(&config);
+        let mut state = 99u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut shapes = Vec::new();
+        for k in 0..300 {
+            let p = [next() * 50.0, next() * 50.0];
+            shapes.push(if k % 3 == 0 {
+                Shape::Segment {
+                    a: p,
+                    b: [p[0] + next() * 20.0 - 10.0, p[1] + next() * 20.0 - 10.0],
+                }
+            } else {
+                Shape::Peg {
+                    centre: p,
+                    radius: 0.1 + next(),
+                }
+            });
+        }
+        let fixed: Vec<u32> = (0..shapes.len() as u32).collect();
+        let r_max = 0.7;
+        let grid = Grid::new(&shapes, &fixed, &law, r_max);
+        for _ in 0..20000 {
+            let p = [next() * 70.0 - 10.0, next() * 70.0 - 10.0];
+            let r = next() * r_max;
+            let near = grid.near(p[0], p[1]);
+            for (k, s) in shapes.iter().enumerate() {
+                if touches(s, p, r, &law) {
+                    assert!(near.contains(&(k as u32)), "obstacle {k} missed at {p:?}");
+                }
+            }
+        }
+    }
+}
