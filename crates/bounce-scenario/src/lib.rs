@@ -33,7 +33,7 @@ pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
-pub const TEMPLATES: [(&str, &str); 6] = [
+pub const TEMPLATES: [(&str, &str); 10] = [
     ("gas", include_str!("../../../scenarios/gas.toml")),
     ("pile", include_str!("../../../scenarios/pile.toml")),
     (
@@ -43,6 +43,16 @@ pub const TEMPLATES: [(&str, &str); 6] = [
     ("brownian", include_str!("../../../scenarios/brownian.toml")),
     ("mixing", include_str!("../../../scenarios/mixing.toml")),
     ("million", include_str!("../../../scenarios/million.toml")),
+    (
+        "galton-board",
+        include_str!("../../../scenarios/galton-board.toml"),
+    ),
+    (
+        "hourglass",
+        include_str!("../../../scenarios/hourglass.toml"),
+    ),
+    ("piston", include_str!("../../../scenarios/piston.toml")),
+    ("effusion", include_str!("../../../scenarios/effusion.toml")),
 ];
 
 /// A parsed scenario file.

@@ -24,8 +24,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::Config;
+use crate::context::StepContext;
 use crate::law::{COINCIDENT_NORMAL, Law};
-use crate::parallel::{CHUNK, Executor};
+use crate::parallel::CHUNK;
 use crate::particles::Particles;
 
 /// The shape of an obstacle.
@@ -526,33 +527,62 @@ pub(crate) struct Impacts {
     pub work: f64,
 }
 
+/// Where each disc was when it was last known to be on the right side of every segment, in
+/// storage order: the start of a path that must not cross one.
+#[derive(Debug, Default)]
+pub(crate) struct Trail {
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl Trail {
+    /// Every disc where it is now.
+    pub(crate) fn mark(&mut self, p: &Particles) {
+        self.x.clone_from(&p.x);
+        self.y.clone_from(&p.y);
+    }
+}
+
 /// Every disc against the obstacles near it (and the moving ones), in parallel chunks of
-/// storage order; `velocities[k]` is obstacle `k`'s velocity. The pushed discs are then
-/// kept inside the walls by `hold`.
+/// storage order; `states[k]` says how fast obstacle `k` moves.
+///
+/// First, a disc whose centre crossed a segment since `trail` (moving fast, or pushed by
+/// its neighbours) is put back on the side it came from, touching the segment; then each
+/// obstacle in reach pushes it out and bounces it ([`collide`]). Pushed discs are kept inside
+/// the walls, and `trail` becomes the new positions.
 pub(crate) fn resolve_obstacles(
     p: &mut Particles,
+    trail: &mut Trail,
     obstacles: &Obstacles,
-    velocities: &[[f64; 2]],
-    law: &Law,
-    exec: &Executor,
-    hold: impl Fn(&mut f64, &mut f64, f64) + Sync,
+    states: &[ObstacleState],
+    ctx: &StepContext,
 ) -> Impacts {
+    let (law, exec, geometry) = (&ctx.law, ctx.exec, ctx.geometry);
+    let velocities: Vec<[f64; 2]> = states.iter().map(|s| s.velocity).collect();
     let radius = &p.radius;
     let mass = &p.mass;
     let n = p.x.len();
+    debug_assert_eq!(trail.x.len(), n, "the trail is marked for these discs");
     let mut chunks: Vec<_> =
         p.x.chunks_mut(CHUNK)
             .zip(p.y.chunks_mut(CHUNK))
             .zip(p.vx.chunks_mut(CHUNK).zip(p.vy.chunks_mut(CHUNK)))
+            .zip(trail.x.chunks_mut(CHUNK).zip(trail.y.chunks_mut(CHUNK)))
             .enumerate()
-            .map(|(c, ((x, y), (vx, vy)))| (c * CHUNK, x, y, vx, vy))
+            .map(|(c, (((x, y), (vx, vy)), (x0, y0)))| (c * CHUNK, x, y, vx, vy, x0, y0))
             .collect();
-    let partial = exec.map_mut(n, &mut chunks, |_, (base, x, y, vx, vy)| {
+    let partial = exec.map_mut(n, &mut chunks, |_, (base, x, y, vx, vy, x0, y0)| {
         let mut out = Impacts::default();
         for k in 0..x.len() {
             let i = *base + k;
+            let from = [x0[k], y0[k]];
             let near = obstacles.grid.near(x[k], y[k]);
-            if near.is_empty() && obstacles.moving.is_empty() {
+            let near_from = if from == [x[k], y[k]] {
+                &[][..]
+            } else {
+                obstacles.grid.near(from[0], from[1])
+            };
+            if near.is_empty() && near_from.is_empty() && obstacles.moving.is_empty() {
                 continue;
             }
             let mut disc = Disc {
@@ -562,6 +592,10 @@ pub(crate) fn resolve_obstacles(
                 mass: law.mass(radius[i], mass[i]),
             };
             let start = disc;
+            for &o in near_from.iter().chain(near).chain(&obstacles.moving) {
+                let shape = &obstacles.shapes[o as usize];
+                uncross(shape, from, &mut disc.position, law.reach(disc.radius));
+            }
             for &o in near.iter().chain(&obstacles.moving) {
                 let u = velocities[o as usize];
                 let before = disc.velocity;
@@ -577,9 +611,10 @@ pub(crate) fn resolve_obstacles(
             }
             if disc != start {
                 let [mut px, mut py] = disc.position;
-                hold(&mut px, &mut py, disc.radius);
+                geometry.hold(&mut px, &mut py, disc.radius);
                 (x[k], y[k], vx[k], vy[k]) = (px, py, disc.velocity[0], disc.velocity[1]);
             }
+            (x0[k], y0[k]) = (x[k], y[k]);
         }
         out
     });
@@ -589,6 +624,37 @@ pub(crate) fn resolve_obstacles(
         total.work += part.work;
     }
     total
+}
+
+/// If the centre's path from `from` to `position` crosses `shape` (a segment), puts the
+/// centre back on `from`'s side, `reach` from the crossing point along the segment's normal.
+#[inline]
+fn uncross(shape: &Shape, from: [f64; 2], position: &mut [f64; 2], reach: f64) {
+    let Shape::Segment { a, b } = *shape else {
+        return;
+    };
+    let ab = [b[0] - a[0], b[1] - a[1]];
+    let side = |p: [f64; 2]| ab[0] * (p[1] - a[1]) - ab[1] * (p[0] - a[0]);
+    let (s0, s1) = (side(from), side(*position));
+    if !((s0 > 0.0 && s1 < 0.0) || (s0 < 0.0 && s1 > 0.0)) {
+        return;
+    }
+    // Where the path meets the segment's line, and whether that is on the segment.
+    let f = s0 / (s0 - s1);
+    let c = [
+        from[0] + f * (position[0] - from[0]),
+        from[1] + f * (position[1] - from[1]),
+    ];
+    let l2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let t = ((c[0] - a[0]) * ab[0] + (c[1] - a[1]) * ab[1]) / l2;
+    if !(0.0..=1.0).contains(&t) {
+        return;
+    }
+    // The unit normal pointing to `from`'s side (the left normal when s0 > 0).
+    let l = l2.sqrt();
+    let sign = if s0 > 0.0 { 1.0 } else { -1.0 };
+    let normal = [-ab[1] / l * sign, ab[0] / l * sign];
+    *position = [c[0] + normal[0] * reach, c[1] + normal[1] * reach];
 }
 
 /// Advances the moving obstacles by one substep `h`: a prescribed velocity moves them, a

@@ -18,7 +18,7 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::integrate::integrate;
 use crate::law::Law;
-use crate::obstacles::{self, ObstacleState, Obstacles, Shape};
+use crate::obstacles::{self, Impacts, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
@@ -63,6 +63,9 @@ pub struct World {
     /// The obstacles binned for the step; `None` until the next step builds them.
     #[serde(skip)]
     obstacles: Option<Obstacles>,
+    /// Where the discs were last on the right side of every segment (with obstacles).
+    #[serde(skip)]
+    trail: Trail,
     #[serde(skip)]
     contacts: Contacts,
     #[serde(skip)]
@@ -131,6 +134,7 @@ impl World {
             obstacle_impulses: vec![[0.0; 2]; obstacle_count],
             obstacle_work: 0.0,
             obstacles: None,
+            trail: Trail::default(),
             contacts: Contacts::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
@@ -246,15 +250,34 @@ impl World {
         let mut finite = true;
         let mut virial = 0.0;
         let obstacles = self.obstacles.as_mut().expect("prepared");
+        let has_obstacles = !obstacles.is_empty();
         let mut obstacle_impulses = vec![[0.0; 2]; self.config.obstacles.len()];
         'substeps: for _ in 0..substeps {
-            if !obstacles.is_empty() {
+            if has_obstacles {
                 obstacles::advance(&self.config, &mut self.obstacle_states, h);
                 obstacles.place(&self.config, &self.obstacle_states);
+                self.trail.mark(&self.particles);
             }
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
+            if has_obstacles {
+                // Discs that flew through a segment in this substep go back.
+                let impacts = obstacles::resolve_obstacles(
+                    &mut self.particles,
+                    &mut self.trail,
+                    obstacles,
+                    &self.obstacle_states,
+                    &ctx,
+                );
+                absorb(
+                    impacts,
+                    &self.config,
+                    &mut stats,
+                    &mut self.obstacle_states,
+                    &mut obstacle_impulses,
+                );
+            }
             profile.integrate += clock.lap();
 
             let rebuilt = bp.update(
@@ -264,6 +287,9 @@ impl World {
                 moved.max_stride,
             );
             reordered |= rebuilt;
+            if rebuilt && has_obstacles {
+                self.trail.mark(&self.particles);
+            }
             profile.rebuilds += rebuilt as usize;
             profile.bin += clock.lap();
             if rebuilt && bp.overflowed() {
@@ -283,30 +309,21 @@ impl World {
                 }
                 profile.pairs += clock.lap();
                 virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
-                if !obstacles.is_empty() {
-                    let velocities: Vec<[f64; 2]> =
-                        self.obstacle_states.iter().map(|s| s.velocity).collect();
+                if has_obstacles {
                     let impacts = obstacles::resolve_obstacles(
                         &mut self.particles,
+                        &mut self.trail,
                         obstacles,
-                        &velocities,
-                        &ctx.law,
-                        &self.exec,
-                        |x, y, r| ctx.geometry.hold(x, y, r),
+                        &self.obstacle_states,
+                        &ctx,
                     );
-                    stats.obstacle_work += impacts.work;
-                    for (k, j) in impacts.list {
-                        let k = k as usize;
-                        obstacle_impulses[k][0] += j[0];
-                        obstacle_impulses[k][1] += j[1];
-                        // A driven obstacle takes the discs' momentum.
-                        if let crate::Motion::Driven { mass, .. } = self.config.obstacles[k].motion
-                        {
-                            let state = &mut self.obstacle_states[k];
-                            state.velocity[0] += j[0] / mass;
-                            state.velocity[1] += j[1] / mass;
-                        }
-                    }
+                    absorb(
+                        impacts,
+                        &self.config,
+                        &mut stats,
+                        &mut self.obstacle_states,
+                        &mut obstacle_impulses,
+                    );
                 }
                 if self.config.solver_iterations > 1 {
                     stats
@@ -698,4 +715,25 @@ fn initial_states(config: &Config) -> Vec<ObstacleState> {
             velocity: o.initial_velocity(),
         })
         .collect()
+}
+
+/// Takes in one pass's obstacle collisions: the work of the moving ones, the momentum each
+/// received, and a driven one's change of velocity (it takes the discs' momentum at once).
+fn absorb(
+    impacts: Impacts,
+    config: &Config,
+    stats: &mut StepStats,
+    states: &mut [ObstacleState],
+    impulses: &mut [[f64; 2]],
+) {
+    stats.obstacle_work += impacts.work;
+    for (k, j) in impacts.list {
+        let k = k as usize;
+        impulses[k][0] += j[0];
+        impulses[k][1] += j[1];
+        if let crate::Motion::Driven { mass, .. } = config.obstacles[k].motion {
+            states[k].velocity[0] += j[0] / mass;
+            states[k].velocity[1] += j[1] / mass;
+        }
+    }
 }
