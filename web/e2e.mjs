@@ -96,6 +96,7 @@ try {
     await pastStep(page, "bounceFallback", stepOf(result.stepped) + 2);
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
+    result.galton_300 = await page.evaluate(() => window.bounceFallback.runTo("galton-board", 300));
   }
   if (mode === "webgl" || mode === "fallback") {
     result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));

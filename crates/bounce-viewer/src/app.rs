@@ -5,8 +5,8 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
-use bounce::{MassModel, Particle, RestitutionModel, VelocityUpdate, World};
-use bounce_scenario::{ColorBy, Session};
+use bounce::{MassModel, Obstacle, Particle, RestitutionModel, VelocityUpdate, World};
+use bounce_scenario::{ColorBy, Rgb, Session};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
 use web_time::Instant;
@@ -25,6 +25,12 @@ pub struct ViewerApp {
     steps_per_frame: u32,
     colour_by: ColorBy,
     palette: Palette,
+    /// Each obstacle's colour.
+    obstacle_colours: Vec<Rgb>,
+    /// What the left mouse button makes.
+    tool: Tool,
+    /// Where a segment being drawn starts.
+    segment_start: Option<[f64; 2]>,
     view: Option<View>,
     raster: Raster,
     texture: Option<TextureHandle>,
@@ -43,6 +49,17 @@ pub struct ViewerApp {
     headless: Option<HeadlessState>,
     /// Screen rectangles of the play/pause and step buttons (for browser tests).
     buttons: [egui::Rect; 2],
+}
+
+/// What the left mouse button makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tool {
+    /// Discs: a click spawns one, a drag lays a moving trail.
+    Discs,
+    /// A segment obstacle from where a drag starts to where it ends.
+    Segment,
+    /// A peg (a fixed disc of the spawn radius) where the click is.
+    Peg,
 }
 
 /// Progress of a `--headless-frames` run.
@@ -77,6 +94,9 @@ impl ViewerApp {
             steps_per_frame: 1,
             colour_by,
             palette,
+            obstacle_colours: Vec::new(),
+            tool: Tool::Discs,
+            segment_start: None,
             view: None,
             raster: Raster::new(1, 1),
             texture: None,
@@ -109,6 +129,7 @@ impl ViewerApp {
             .set_threads(threads)
             .map_err(|e| e.to_string())?;
         app.spawn_radius = app.typical_radius();
+        app.obstacle_colours = app.session.obstacle_colours();
         Ok(app)
     }
 
@@ -145,6 +166,7 @@ impl ViewerApp {
         self.view = None;
         self.history.clear();
         self.spawn_radius = self.typical_radius();
+        self.obstacle_colours = self.session.obstacle_colours();
     }
 
     fn reset(&mut self) {
@@ -341,6 +363,12 @@ impl ViewerApp {
                 .logarithmic(true)
                 .text("spawn radius"),
         );
+        ui.horizontal(|ui| {
+            ui.label("left button:");
+            ui.radio_value(&mut self.tool, Tool::Discs, "discs");
+            ui.radio_value(&mut self.tool, Tool::Segment, "segment");
+            ui.radio_value(&mut self.tool, Tool::Peg, "peg");
+        });
         ui.separator();
         ui.label("file (scenario or checkpoint)");
         ui.text_edit_singleline(&mut self.path);
@@ -461,7 +489,12 @@ impl ViewerApp {
             .get_or_insert_with(|| View::fit(self.session.view.0, self.session.view.1, w, h));
         self.handle_mouse(ui, &response, rect, ppp, w, h);
         let view = self.view.unwrap_or(view);
-        self.raster.draw(&self.session.world, &view, &self.palette);
+        self.raster.draw(
+            &self.session.world,
+            &view,
+            &self.palette,
+            &self.obstacle_colours,
+        );
         let image = egui::ColorImage::from_rgba_unmultiplied([w, h], &self.raster.pixels);
         match &mut self.texture {
             Some(t) => t.set(image, TextureOptions::NEAREST),
@@ -479,6 +512,15 @@ impl ViewerApp {
                 rect,
                 egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                 Color32::WHITE,
+            );
+        }
+        // A segment being drawn: from its start to the cursor.
+        if let (Some(start), Some(pos)) = (self.segment_start, response.hover_pos()) {
+            let [x, y] = view.to_pixel(start, w, h);
+            let from = egui::pos2(rect.min.x + x as f32 / ppp, rect.min.y + y as f32 / ppp);
+            ui.painter().line_segment(
+                [from, pos],
+                egui::Stroke::new(2.0, Color32::from_rgb(170, 176, 190)),
             );
         }
         if let Some(state) = &mut self.headless {
@@ -528,8 +570,29 @@ impl ViewerApp {
             return;
         };
         let world_pos = view.to_world(to_px(pos), w, h);
+        match self.tool {
+            Tool::Discs => {}
+            Tool::Peg => {
+                if response.clicked_by(PointerButton::Primary) {
+                    self.add_obstacle(Obstacle::peg(world_pos, self.spawn_radius));
+                }
+            }
+            Tool::Segment => {
+                if response.drag_started_by(PointerButton::Primary) {
+                    self.segment_start = Some(world_pos);
+                }
+                if response.drag_stopped_by(PointerButton::Primary)
+                    && let Some(start) = self.segment_start.take()
+                    && start != world_pos
+                {
+                    self.add_obstacle(Obstacle::segment(start, world_pos));
+                }
+            }
+        }
         // Left: click spawns one disc; dragging lays a trail moving with the drag.
-        if response.clicked_by(PointerButton::Primary) {
+        if self.tool != Tool::Discs {
+            // The left button draws obstacles.
+        } else if response.clicked_by(PointerButton::Primary) {
             self.spawn(world_pos, [0.0, 0.0]);
         } else if response.dragged_by(PointerButton::Primary) {
             let far_enough = self.last_spawn.is_none_or(|last| {
@@ -572,6 +635,19 @@ impl ViewerApp {
             self.fling = None;
             self.drag_start = None;
         }
+    }
+
+    /// Adds an obstacle drawn with the mouse (grey).
+    pub fn add_obstacle(&mut self, obstacle: Obstacle) {
+        match self.session.world.add_obstacles([obstacle]) {
+            Ok(()) => self.obstacle_colours.push(bounce_scenario::OBSTACLE_GREY),
+            Err(e) => self.message = format!("cannot add that obstacle: {e}"),
+        }
+    }
+
+    /// The obstacles in the world now.
+    pub fn obstacle_count(&self) -> usize {
+        self.session.world.config().obstacles.len()
     }
 
     fn spawn(&mut self, at: [f64; 2], velocity: [f64; 2]) {
@@ -712,7 +788,8 @@ impl ViewerApp {
                         ("h or ?", "this help"),
                         (
                             "left click / drag",
-                            "spawn discs (a drag gives them its velocity)",
+                            "spawn discs (a drag gives them its velocity); with the segment \
+                             tool a drag draws a wall, with the peg tool a click drops a peg",
                         ),
                         ("right drag on a disc", "fling it"),
                         ("right drag elsewhere", "push the discs around the cursor"),
@@ -902,5 +979,33 @@ mod tests {
         a.spawn([500.0, 3.0], [0.0, 0.0]);
         assert_eq!(a.session.world.len(), n + 1, "outside the walls");
         assert!(a.message.contains("cannot place"), "{}", a.message);
+    }
+
+    #[test]
+    fn drawn_obstacles_join_the_world_and_the_picture() {
+        // A wall across the gas box and a peg: both in the world, drawn in grey, and a
+        // scenario's own obstacles keep their colours.
+        let mut a = app("gas");
+        a.add_obstacle(Obstacle::segment([10.0, 45.0], [80.0, 45.0]));
+        a.add_obstacle(Obstacle::peg([45.0, 20.0], 2.0));
+        a.add_obstacle(Obstacle::peg([45.0, 20.0], -1.0));
+        assert_eq!(a.obstacle_count(), 2);
+        assert!(a.message.contains("cannot add"), "{}", a.message);
+        // One step pushes the discs off them.
+        a.run_to(1);
+        let view = View::fit([0.0, 0.0], [90.0, 90.0], 300, 300);
+        let mut raster = Raster::new(300, 300);
+        raster.draw(&a.session.world, &view, &a.palette, &a.obstacle_colours);
+        let grey = bounce_scenario::OBSTACLE_GREY;
+        let pixel = |p: [f64; 2]| {
+            let [x, y] = view.to_pixel(p, 300, 300);
+            let k = (y as usize * 300 + x as usize) * 4;
+            [raster.pixels[k], raster.pixels[k + 1], raster.pixels[k + 2]]
+        };
+        assert_eq!(pixel([45.0, 20.0]), grey, "the peg");
+        let on_wall = (-1..=1).any(|d| pixel([30.0, 45.0 + d as f64 * 0.2]) == grey);
+        assert!(on_wall, "the wall");
+        let galton = app("galton-board");
+        assert_eq!(galton.obstacle_colours[0], [0x8d, 0xa9, 0xc4]);
     }
 }

@@ -5,7 +5,7 @@
 //! a software renderer (Mesa's llvmpipe). Filling each disc's pixels directly is linear in the
 //! pixels covered, needs no GPU features, and runs the same in a browser.
 
-use bounce::World;
+use bounce::{Shape, World};
 use bounce_scenario::Rgb;
 pub use bounce_scenario::palette::Palette;
 
@@ -91,8 +91,15 @@ impl Raster {
         }
     }
 
-    /// Draws the world as `view` sees it.
-    pub fn draw(&mut self, world: &World, view: &View, palette: &Palette) {
+    /// Draws the world as `view` sees it, the obstacles in `obstacle_colours` (one per
+    /// obstacle, grey where missing).
+    pub fn draw(
+        &mut self,
+        world: &World,
+        view: &View,
+        palette: &Palette,
+        obstacle_colours: &[Rgb],
+    ) {
         for px in self.pixels.chunks_exact_mut(4) {
             px.copy_from_slice(&[BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255]);
         }
@@ -110,39 +117,83 @@ impl Raster {
                 self.put(x1, y, BOX_EDGE);
             }
         }
+        for (k, shape) in world.obstacle_shapes().iter().enumerate() {
+            let colour = obstacle_colours
+                .get(k)
+                .copied()
+                .unwrap_or(bounce_scenario::OBSTACLE_GREY);
+            match *shape {
+                Shape::Segment { a, b } => {
+                    let (a, b) = (view.to_pixel(a, w, h), view.to_pixel(b, w, h));
+                    self.line(a, b, colour);
+                }
+                Shape::Peg { centre, radius } => {
+                    let [cx, cy] = view.to_pixel(centre, w, h);
+                    self.disc(cx, cy, (radius * view.scale).max(0.7), colour);
+                }
+            }
+        }
         let p = world.particles();
         for i in 0..p.len() {
             let [cx, cy] = view.to_pixel([p.x()[i], p.y()[i]], w, h);
             let r = p.radius()[i] * view.scale;
-            if cx + r < 0.0 || cy + r < 0.0 || cx - r > w as f64 || cy - r > h as f64 {
-                continue;
-            }
             let colour = palette.colour(
                 p.ids()[i].0 as usize,
                 p.vx()[i].hypot(p.vy()[i]),
                 p.radius()[i],
             );
-            if r < 0.7 {
-                self.put(cx as isize, cy as isize, colour);
+            self.disc(cx, cy, r, colour);
+        }
+    }
+
+    /// A filled disc: the pixels whose centres lie inside it (one pixel when smaller).
+    fn disc(&mut self, cx: f64, cy: f64, r: f64, colour: Rgb) {
+        let (w, h) = (self.width, self.height);
+        if cx + r < 0.0 || cy + r < 0.0 || cx - r > w as f64 || cy - r > h as f64 {
+            return;
+        }
+        if r < 0.7 {
+            self.put(cx as isize, cy as isize, colour);
+            return;
+        }
+        let y_lo = (cy - r).floor().max(0.0) as usize;
+        let y_hi = ((cy + r).ceil() as usize).min(h);
+        for y in y_lo..y_hi {
+            let dy = y as f64 + 0.5 - cy;
+            let half = r * r - dy * dy;
+            if half < 0.0 {
                 continue;
             }
-            // Pixels whose centres lie inside the disc.
-            let y_lo = (cy - r).floor().max(0.0) as usize;
-            let y_hi = ((cy + r).ceil() as usize).min(h);
-            for y in y_lo..y_hi {
-                let dy = y as f64 + 0.5 - cy;
-                let half = r * r - dy * dy;
-                if half < 0.0 {
-                    continue;
-                }
-                let half = half.sqrt();
-                let x_lo = (cx - half + 0.5).floor().max(0.0) as usize;
-                let x_hi = ((cx + half + 0.5).floor().max(0.0) as usize).min(w);
-                let row = y * w;
-                for x in x_lo..x_hi {
-                    let k = (row + x) * 4;
-                    self.pixels[k..k + 4].copy_from_slice(&[colour[0], colour[1], colour[2], 255]);
-                }
+            let half = half.sqrt();
+            let x_lo = (cx - half + 0.5).floor().max(0.0) as usize;
+            let x_hi = ((cx + half + 0.5).floor().max(0.0) as usize).min(w);
+            let row = y * w;
+            for x in x_lo..x_hi {
+                let k = (row + x) * 4;
+                self.pixels[k..k + 4].copy_from_slice(&[colour[0], colour[1], colour[2], 255]);
+            }
+        }
+    }
+
+    /// A line two pixels wide from `a` to `b` (pixels), clipped to the picture.
+    fn line(&mut self, a: [f64; 2], b: [f64; 2], colour: Rgb) {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        // One step per pixel along the longer axis, at most a few picture sizes.
+        let limit = 4.0 * (self.width + self.height) as f64;
+        let steps = dx.abs().max(dy.abs()).ceil().clamp(1.0, limit) as usize;
+        let thick_x = dy.abs() > dx.abs();
+        for k in 0..=steps {
+            let t = k as f64 / steps as f64;
+            let (x, y) = ((a[0] + t * dx).floor(), (a[1] + t * dy).floor());
+            if !(x.is_finite() && y.is_finite()) {
+                return;
+            }
+            let (x, y) = (x as isize, y as isize);
+            self.put(x, y, colour);
+            if thick_x {
+                self.put(x + 1, y, colour);
+            } else {
+                self.put(x, y + 1, colour);
             }
         }
     }
@@ -186,7 +237,7 @@ mod tests {
             radius_range: [1.0, 1.0],
         };
         let mut raster = Raster::new(200, 100);
-        raster.draw(&world, &view, &palette);
+        raster.draw(&world, &view, &palette, &[]);
         let at = |x: usize, y: usize| &raster.pixels[(y * 200 + x) * 4..(y * 200 + x) * 4 + 3];
         assert_eq!(at(50, 50), &[255, 0, 0]);
         assert_eq!(at(58, 50), &[255, 0, 0]);

@@ -11,7 +11,7 @@
 mod app;
 pub mod canvas;
 
-pub use app::ViewerApp;
+pub use app::{Tool, ViewerApp};
 
 use std::path::{Path, PathBuf};
 #[cfg(not(target_arch = "wasm32"))]

@@ -5,6 +5,7 @@
 //! computes the same bits as a native run. Built by `scripts/build-web` into `web/dist`.
 #![cfg(target_arch = "wasm32")]
 
+use bounce::Shape;
 use bounce_scenario::Session;
 use bounce_scenario::palette::Palette;
 use bounce_viewer::ViewerApp;
@@ -147,6 +148,26 @@ impl Simulation {
                     .colour(p.ids()[i].0 as usize, speed, p.radius()[i]);
                 let rgb = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
                 [p.x()[i], p.y()[i], p.radius()[i], rgb as f64]
+            })
+            .collect()
+    }
+
+    /// `[kind, a, b, c, d, colour, ...]` of every obstacle where it is now: a segment is
+    /// kind 0 from `(a, b)` to `(c, d)`, a peg kind 1 at `(a, b)` with radius `c` (`d` = 0);
+    /// the colour is `0xRRGGBB`.
+    pub fn obstacles(&self) -> Vec<f64> {
+        let colours = self.session.obstacle_colours();
+        self.session
+            .world
+            .obstacle_shapes()
+            .iter()
+            .zip(colours)
+            .flat_map(|(shape, [r, g, b])| {
+                let rgb = f64::from((u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b));
+                match *shape {
+                    Shape::Segment { a, b } => [0.0, a[0], a[1], b[0], b[1], rgb],
+                    Shape::Peg { centre, radius } => [1.0, centre[0], centre[1], radius, 0.0, rgb],
+                }
             })
             .collect()
     }

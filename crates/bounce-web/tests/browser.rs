@@ -66,15 +66,15 @@ impl Drop for Server {
     }
 }
 
-/// The hash a native run of the built-in `gas` scenario has after 100 steps.
-fn native_gas_status_at_100() -> String {
-    let mut session = bounce_scenario::Session::builtin("gas").unwrap();
-    for _ in 0..100 {
+/// The status a native run of the built-in scenario `name` has after `steps` steps.
+fn native_status(name: &str, steps: u64) -> String {
+    let mut session = bounce_scenario::Session::builtin(name).unwrap();
+    for _ in 0..steps {
         session.step().unwrap();
     }
     let world = &session.world;
     format!(
-        "step 100 hash {:016x} particles {}",
+        "step {steps} hash {:016x} particles {}",
         world.state_hash(),
         world.len()
     )
@@ -124,12 +124,20 @@ fn check_run(result: &serde_json::Value) {
     assert_eq!(paused_a, paused_b, "paused means no steps: {result}");
     assert_eq!(stepped, paused_b + 1, "step advances exactly one: {result}");
     assert!(resumed > stepped + 2, "play resumes: {result}");
-    let native = native_gas_status_at_100();
+    let native = native_status("gas", 100);
     let browser = result["hash_100"].as_str().unwrap();
     assert!(
         browser.starts_with(&native),
         "browser {browser:?} vs native {native:?}"
     );
+    // Obstacles (a funnel, 375 pegs, bins) too.
+    if let Some(browser) = result["galton_300"].as_str() {
+        let native = native_status("galton-board", 300);
+        assert!(
+            browser.starts_with(&native),
+            "galton board: browser {browser:?} vs native {native:?}"
+        );
+    }
 }
 
 /// Counts pixels in a rectangle that differ from the canvas background, and their colours.
@@ -182,6 +190,7 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
     let shot = dir.path().join("fallback.png");
     let result = drive(&server, "fallback", &shot);
     check_run(&result);
+    assert!(result["galton_300"].is_string(), "{result}");
     let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
     assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
 }

@@ -158,7 +158,16 @@ impl World {
                 .map_err(|error| WorldError::Particle { id: p.id[i], error })?;
         }
         if config.obstacles != self.config.obstacles {
-            self.obstacle_states = initial_states(&config);
+            // Obstacles that stay where they were in the list keep their motion; new or
+            // changed ones start at their configured place.
+            let fresh = initial_states(&config);
+            let old = &self.config.obstacles;
+            self.obstacle_states = (0..config.obstacles.len())
+                .map(|k| match old.get(k) {
+                    Some(o) if *o == config.obstacles[k] => self.obstacle_states[k],
+                    _ => fresh[k],
+                })
+                .collect();
             self.obstacle_impulses = vec![[0.0; 2]; config.obstacles.len()];
         }
         self.config = config;
@@ -166,6 +175,17 @@ impl World {
         self.broadphase.invalidate();
         self.refresh_stats();
         Ok(())
+    }
+
+    /// Adds obstacles after the existing ones (which keep their motion). Fails, leaving the
+    /// world unchanged, if one is invalid.
+    pub fn add_obstacles(
+        &mut self,
+        obstacles: impl IntoIterator<Item = crate::Obstacle>,
+    ) -> Result<(), WorldError> {
+        let mut config = self.config.clone();
+        config.obstacles.extend(obstacles);
+        self.set_config(config)
     }
 
     /// Adds a disc and returns its id. Fails, leaving the world unchanged, on a non-finite
