@@ -54,7 +54,7 @@ enum Command {
         quiet: bool,
     },
     /// Write a commented scenario to start from (gas, pile, newtons-cradle, brownian,
-    /// mixing, million).
+    /// mixing, million, galton-board, hourglass, piston, effusion).
     New {
         /// The template's name.
         template: String,

@@ -6,6 +6,8 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde::Deserialize;
+
+use crate::obstacle::Obstacle;
 use serde::de::IntoDeserializer;
 
 /// The world's configuration: the seed's parameters, the boundary and the model options.
@@ -22,7 +24,8 @@ use serde::de::IntoDeserializer;
 /// ``wall_restitution`` (``None``: the coefficient of restitution), ``mass_model``
 /// (``"radius"``, ``"area"``, ``"per_particle"``), ``restitution_model``
 /// (``"scale_each_normal_velocity"``, ``"relative_normal_velocity"``) and
-/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``).
+/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``) and ``obstacles`` (a list
+/// of :class:`Obstacle`).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -145,6 +148,11 @@ impl Config {
                             &name,
                             "\"all_detected\", \"approaching_only\"",
                         )?
+                    }
+                    "obstacles" => {
+                        let list: Vec<PyRef<'_, Obstacle>> =
+                            typed(&key, v, "a list of bounce.Obstacle")?;
+                        c.obstacles = list.iter().map(|o| o.inner).collect();
                     }
                     _ => {
                         return Err(PyTypeError::new_err(format!(
@@ -283,6 +291,16 @@ impl Config {
         velocity_update_name(self.inner.velocity_update)
     }
 
+    /// The obstacles as configured (a moving one where it starts).
+    #[getter]
+    fn obstacles(&self) -> Vec<Obstacle> {
+        self.inner
+            .obstacles
+            .iter()
+            .map(|&inner| Obstacle { inner })
+            .collect()
+    }
+
     pub(crate) fn __repr__(&self) -> String {
         let c = &self.inner;
         let mut parts = vec![
@@ -308,6 +326,9 @@ impl Config {
         parts.push(format!("mass_model={:?}", self.mass_model()));
         parts.push(format!("restitution_model={:?}", self.restitution_model()));
         parts.push(format!("velocity_update={:?}", self.velocity_update()));
+        if !c.obstacles.is_empty() {
+            parts.push(format!("obstacles=[{} obstacles]", c.obstacles.len()));
+        }
         format!("bounce.Config({})", parts.join(", "))
     }
 

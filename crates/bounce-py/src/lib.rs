@@ -6,11 +6,13 @@
 //! | `config.rs` | `Config`: keyword arguments to the Rust `Config`, validated |
 //! | `world.rs` | `World`: NumPy in and out, `step` without the GIL, the storage view |
 //! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
+//! | `obstacle.rs` | `Obstacle` (segments, pegs; fixed or moving), `polyline`, `rectangle` |
 
 use pyo3::prelude::*;
 
 mod config;
 mod gsd;
+mod obstacle;
 mod world;
 
 /// The compiled core of the `bounce` package.
@@ -20,6 +22,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::World>()?;
     m.add_class::<world::StorageView>()?;
     m.add_class::<gsd::GsdWriter>()?;
+    m.add_class::<obstacle::Obstacle>()?;
+    m.add_function(wrap_pyfunction!(obstacle::polyline, m)?)?;
+    m.add_function(wrap_pyfunction!(obstacle::rectangle, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

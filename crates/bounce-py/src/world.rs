@@ -13,6 +13,8 @@ use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueEr
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::obstacle::Obstacle;
+
 use crate::config::Config;
 use crate::gsd::GsdWriter;
 
@@ -291,6 +293,48 @@ impl World {
         Ok(Array1::from_iter(ids.iter().map(|id| id.0)).into_pyarray(py))
     }
 
+    /// Adds obstacles (a list of :class:`Obstacle`) after the existing ones, which keep their
+    /// motion. Raises ``ValueError`` if the world refuses one; the world is then unchanged.
+    fn add_obstacles(&mut self, obstacles: Vec<PyRef<'_, Obstacle>>) -> PyResult<()> {
+        self.check_unlocked()?;
+        self.get_mut()
+            .add_obstacles(obstacles.iter().map(|o| o.inner))
+            .map_err(value_error)
+    }
+
+    /// The obstacles where they are now (moving ones moved), in the configuration's order.
+    #[getter]
+    fn obstacles(&self) -> Vec<Obstacle> {
+        let world = self.get();
+        world
+            .obstacle_shapes()
+            .into_iter()
+            .zip(&world.config().obstacles)
+            .map(|(shape, o)| Obstacle {
+                inner: bounce::Obstacle { shape, ..*o },
+            })
+            .collect()
+    }
+
+    /// The momentum each obstacle received in the last step, shape (K, 2): divide by ``dt``
+    /// for the force.
+    #[getter]
+    fn obstacle_impulses<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        let values: Vec<f64> = self
+            .get()
+            .obstacle_impulses()
+            .iter()
+            .flat_map(|j| [j[0], j[1]])
+            .collect();
+        rows(py, values, 2)
+    }
+
+    /// The work the moving obstacles have done on the discs since the start.
+    #[getter]
+    fn obstacle_work(&self) -> f64 {
+        self.get().obstacle_work()
+    }
+
     /// Advances ``n`` steps of ``dt`` (default: the world's ``dt``), without the GIL: other
     /// Python threads run meanwhile. Ctrl-C raises ``KeyboardInterrupt`` between steps,
     /// the world left after a whole step. Attached GSD writers get their frames.
@@ -366,7 +410,8 @@ impl World {
 
     /// What the last step measured, as a dict: ``kinetic_energy``, ``momentum`` (px, py),
     /// ``collisions`` (pairs resolved), ``wall_impulse`` (a dict per wall), ``max_overlap``,
-    /// ``virial``, ``pressure`` (``None`` in an open world) and ``substeps``.
+    /// ``virial``, ``pressure`` (``None`` in an open world), ``substeps`` and
+    /// ``obstacle_work`` (the work moving obstacles did on the discs in the step).
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let world = self.get();
@@ -385,6 +430,7 @@ impl World {
         d.set_item("virial", s.virial)?;
         d.set_item("pressure", s.pressure)?;
         d.set_item("substeps", s.substeps)?;
+        d.set_item("obstacle_work", s.obstacle_work)?;
         Ok(d)
     }
 

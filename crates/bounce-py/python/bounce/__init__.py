@@ -14,9 +14,31 @@ The same engine as the ``bounce`` command, driven from Python with NumPy arrays:
 ``World.from_scenario(path)`` runs the TOML scenarios of the command line with the same
 ids and bits: ``world.state_hash()`` after N steps equals the hash ``bounce run`` prints.
 
-Classes: :class:`Config`, :class:`World`, :class:`StorageView`, :class:`GSDWriter`.
+Obstacles (segments and pegs, fixed or moving) go in ``Config(obstacles=[...])`` or
+``world.add_obstacles([...])``; ``polyline`` and ``rectangle`` make lists of segments.
+
+Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView`,
+:class:`GSDWriter`.
 """
 
-from ._native import Config, GSDWriter, StorageView, World, __version__
+from ._native import (
+    Config,
+    GSDWriter,
+    Obstacle,
+    StorageView,
+    World,
+    __version__,
+    polyline,
+    rectangle,
+)
 
-__all__ = ["Config", "World", "StorageView", "GSDWriter", "__version__"]
+__all__ = [
+    "Config",
+    "World",
+    "Obstacle",
+    "polyline",
+    "rectangle",
+    "StorageView",
+    "GSDWriter",
+    "__version__",
+]

@@ -1,7 +1,7 @@
 """Type stubs for bounce (the compiled module ``bounce._native``)."""
 
 from os import PathLike
-from typing import Dict, Literal, Optional, Tuple, TypedDict, Union
+from typing import Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -26,6 +26,57 @@ class Stats(TypedDict):
     virial: float
     pressure: Optional[float]
     substeps: int
+    obstacle_work: float
+
+class Obstacle:
+    """A segment or a peg that discs collide with, fixed or moving."""
+
+    @staticmethod
+    def segment(
+        a: _Pair,
+        b: _Pair,
+        *,
+        restitution: Optional[float] = None,
+        velocity: Optional[_Pair] = None,
+        force: Optional[_Pair] = None,
+        mass: Optional[float] = None,
+    ) -> Obstacle: ...
+    @staticmethod
+    def peg(
+        centre: _Pair,
+        radius: float,
+        *,
+        restitution: Optional[float] = None,
+        velocity: Optional[_Pair] = None,
+        force: Optional[_Pair] = None,
+        mass: Optional[float] = None,
+    ) -> Obstacle: ...
+    @property
+    def kind(self) -> Literal["segment", "peg"]: ...
+    @property
+    def ends(self) -> Optional[Tuple[_Pair, _Pair]]: ...
+    @property
+    def centre(self) -> Optional[_Pair]: ...
+    @property
+    def radius(self) -> Optional[float]: ...
+    @property
+    def restitution(self) -> Optional[float]: ...
+
+def polyline(
+    points: Sequence[_Pair],
+    closed: bool = False,
+    *,
+    restitution: Optional[float] = None,
+    velocity: Optional[_Pair] = None,
+) -> List[Obstacle]: ...
+def rectangle(
+    centre: _Pair,
+    size: _Pair,
+    angle: float = 0.0,
+    *,
+    restitution: Optional[float] = None,
+    velocity: Optional[_Pair] = None,
+) -> List[Obstacle]: ...
 
 class Config:
     """The world's configuration; every keyword defaults to the seed's value."""
@@ -46,7 +97,10 @@ class Config:
         mass_model: Literal["radius", "area", "per_particle"] = ...,
         restitution_model: Literal["scale_each_normal_velocity", "relative_normal_velocity"] = ...,
         velocity_update: Literal["all_detected", "approaching_only"] = ...,
+        obstacles: Sequence[Obstacle] = ...,
     ) -> None: ...
+    @property
+    def obstacles(self) -> List[Obstacle]: ...
     @property
     def collision_radius_scale(self) -> float: ...
     @property
@@ -147,6 +201,13 @@ class World:
     @property
     def profile(self) -> Dict[str, float]: ...
     def state_hash(self) -> int: ...
+    def add_obstacles(self, obstacles: Sequence[Obstacle]) -> None: ...
+    @property
+    def obstacles(self) -> List[Obstacle]: ...
+    @property
+    def obstacle_impulses(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def obstacle_work(self) -> float: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...
     @positions.setter
