@@ -95,6 +95,7 @@ impl BounceSim {
             gravity: setup.gravity,
             coefficient_of_restitution: setup.restitution,
             substeps: setup.substeps,
+            obstacles: std::mem::take(&mut setup.obstacles),
             ..bounce::Config::default()
         };
         let mut world = bounce::World::new(config)?;

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use bounce::scene::{self, Gas, Speeds};
-use bounce::{Boundary, Config, Particle, World};
+use bounce::{Boundary, Config, Obstacle, Particle, World};
 
 /// What a scene is made of.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,6 +20,9 @@ pub enum Kind {
     Poly,
     /// The gas with speeds uniform in [-40, 40]²: speed × dt ≈ the radius.
     Fast,
+    /// The gas among 10,000 pegs of radius 0.5 on a square lattice over the box (bounce
+    /// only: the peers' scenes have no obstacles).
+    Pegs,
 }
 
 /// A named scene.
@@ -41,6 +44,8 @@ pub struct Setup {
     pub restitution: f64,
     pub dt: f64,
     pub substeps: u32,
+    /// Obstacles (bounce only).
+    pub obstacles: Vec<Obstacle>,
 }
 
 const fn scene(kind: Kind, n: usize, peers: bool) -> SceneKind {
@@ -48,7 +53,7 @@ const fn scene(kind: Kind, n: usize, peers: bool) -> SceneKind {
 }
 
 impl SceneKind {
-    pub const ALL: [SceneKind; 12] = [
+    pub const ALL: [SceneKind; 13] = [
         scene(Kind::Gas, 10_000, true),
         scene(Kind::Gas, 100_000, true),
         scene(Kind::Gas, 1_000_000, true),
@@ -61,6 +66,7 @@ impl SceneKind {
         scene(Kind::Poly, 1_000_000, false),
         scene(Kind::Fast, 100_000, true),
         scene(Kind::Fast, 1_000_000, false),
+        scene(Kind::Pegs, 100_000, false),
     ];
 
     pub fn name(&self) -> String {
@@ -70,6 +76,7 @@ impl SceneKind {
             Kind::Dense => "dense-0.7",
             Kind::Poly => "poly-0.05-5",
             Kind::Fast => "fast-gas",
+            Kind::Pegs => "pegs-10k-gas",
         };
         let n = match self.n {
             n if n >= 1_000_000 => format!("{}m", n / 1_000_000),
@@ -111,7 +118,7 @@ impl SceneKind {
         let n = self.n;
         let (gravity, restitution, substeps) = self.physics();
         let (config, mut discs) = match self.kind {
-            Kind::Gas | Kind::SettledPile => {
+            Kind::Gas | Kind::SettledPile | Kind::Pegs => {
                 scene::gas_in_walls(n, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1)?
             }
             Kind::Fast => scene::gas_in_walls(n, [0.5, 0.5], 0.3, Speeds::Uniform(40.0), 1)?,
@@ -137,6 +144,34 @@ impl SceneKind {
         if self.kind == Kind::SettledPile {
             discs = read_settled(&self.cache_file(cache), n)?;
         }
+        let mut obstacles = Vec::new();
+        if self.kind == Kind::Pegs {
+            // 100 × 100 pegs, the gas placed clear of them.
+            let (min, max) = config.boundary.bounds().context("walls")?;
+            let step = [(max[0] - min[0]) / 100.0, (max[1] - min[1]) / 100.0];
+            for i in 0..100 {
+                for j in 0..100 {
+                    let centre = [
+                        min[0] + (i as f64 + 0.5) * step[0],
+                        min[1] + (j as f64 + 0.5) * step[1],
+                    ];
+                    obstacles.push(Obstacle::peg(centre, 0.5));
+                }
+            }
+            let with_pegs = Config {
+                obstacles: obstacles.clone(),
+                ..config.clone()
+            };
+            let gas = Gas {
+                count: n,
+                radius: [0.5, 0.5],
+                region: None,
+                speeds: Speeds::Uniform(2.0),
+                drift: [0.0, 0.0],
+                seed: 1,
+            };
+            discs = scene::gas(&gas, &with_pegs)?;
+        }
         spatial_order(&mut discs);
         let (min, max) = config.boundary.bounds().context("walls")?;
         Ok(Setup {
@@ -147,6 +182,7 @@ impl SceneKind {
             restitution,
             dt: 1.0 / 60.0,
             substeps,
+            obstacles,
         })
     }
 

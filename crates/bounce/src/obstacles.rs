@@ -257,6 +257,8 @@ pub(crate) struct Obstacles {
     restitution: Vec<f64>,
     /// Indices of the moving obstacles, tested against every disc.
     moving: Vec<u32>,
+    /// Whether any obstacle is a segment (which a disc could cross: pegs have an inside).
+    has_segments: bool,
     grid: Grid,
 }
 
@@ -297,7 +299,9 @@ impl Obstacles {
             .filter(|&k| list[k as usize].motion == Motion::Fixed)
             .collect();
         let grid = Grid::new(&shapes, &fixed, &law, max_radius);
+        let has_segments = shapes.iter().any(|s| matches!(s, Shape::Segment { .. }));
         Obstacles {
+            has_segments,
             shapes,
             restitution,
             moving,
@@ -308,6 +312,11 @@ impl Obstacles {
     /// Whether there are none.
     pub(crate) fn is_empty(&self) -> bool {
         self.shapes.is_empty()
+    }
+
+    /// Whether discs must be followed ([`Trail`]) so none crosses a segment.
+    pub(crate) fn needs_trail(&self) -> bool {
+        self.has_segments
     }
 
     /// Whether a disc of radius `r` (at most the radius the grid was built for) at `p`
@@ -552,7 +561,7 @@ impl Trail {
 /// the walls, and `trail` becomes the new positions.
 pub(crate) fn resolve_obstacles(
     p: &mut Particles,
-    trail: &mut Trail,
+    trail: Option<&mut Trail>,
     obstacles: &Obstacles,
     states: &[ObstacleState],
     ctx: &StepContext,
@@ -562,27 +571,45 @@ pub(crate) fn resolve_obstacles(
     let radius = &p.radius;
     let mass = &p.mass;
     let n = p.x.len();
-    debug_assert_eq!(trail.x.len(), n, "the trail is marked for these discs");
+    // Without a trail (no segments), the chunks of the trail are empty.
+    let (tx, ty) = match trail {
+        Some(t) => {
+            debug_assert_eq!(t.x.len(), n, "the trail is marked for these discs");
+            (&mut t.x[..], &mut t.y[..])
+        }
+        None => (&mut [][..], &mut [][..]),
+    };
     let mut chunks: Vec<_> =
         p.x.chunks_mut(CHUNK)
             .zip(p.y.chunks_mut(CHUNK))
             .zip(p.vx.chunks_mut(CHUNK).zip(p.vy.chunks_mut(CHUNK)))
-            .zip(trail.x.chunks_mut(CHUNK).zip(trail.y.chunks_mut(CHUNK)))
             .enumerate()
-            .map(|(c, (((x, y), (vx, vy)), (x0, y0)))| (c * CHUNK, x, y, vx, vy, x0, y0))
+            .map(|(c, ((x, y), (vx, vy)))| (c * CHUNK, x, y, vx, vy))
             .collect();
-    let partial = exec.map_mut(n, &mut chunks, |_, (base, x, y, vx, vy, x0, y0)| {
+    let mut trail_chunks: Vec<(&mut [f64], &mut [f64])> =
+        tx.chunks_mut(CHUNK).zip(ty.chunks_mut(CHUNK)).collect();
+    trail_chunks.resize_with(chunks.len(), || (&mut [][..], &mut [][..]));
+    let mut work: Vec<_> = chunks.iter_mut().zip(trail_chunks).collect();
+    let partial = exec.map_mut(n, &mut work, |_, ((base, x, y, vx, vy), (x0, y0))| {
         let mut out = Impacts::default();
+        let followed = !x0.is_empty();
         for k in 0..x.len() {
             let i = *base + k;
-            let from = [x0[k], y0[k]];
             let near = obstacles.grid.near(x[k], y[k]);
+            let from = if followed {
+                [x0[k], y0[k]]
+            } else {
+                [x[k], y[k]]
+            };
             let near_from = if from == [x[k], y[k]] {
                 &[][..]
             } else {
                 obstacles.grid.near(from[0], from[1])
             };
             if near.is_empty() && near_from.is_empty() && obstacles.moving.is_empty() {
+                if followed {
+                    (x0[k], y0[k]) = (x[k], y[k]);
+                }
                 continue;
             }
             let mut disc = Disc {
@@ -592,9 +619,11 @@ pub(crate) fn resolve_obstacles(
                 mass: law.mass(radius[i], mass[i]),
             };
             let start = disc;
-            for &o in near_from.iter().chain(near).chain(&obstacles.moving) {
-                let shape = &obstacles.shapes[o as usize];
-                uncross(shape, from, &mut disc.position, law.reach(disc.radius));
+            if followed {
+                for &o in near_from.iter().chain(near).chain(&obstacles.moving) {
+                    let shape = &obstacles.shapes[o as usize];
+                    uncross(shape, from, &mut disc.position, law.reach(disc.radius));
+                }
             }
             for &o in near.iter().chain(&obstacles.moving) {
                 let u = velocities[o as usize];
@@ -614,7 +643,9 @@ pub(crate) fn resolve_obstacles(
                 geometry.hold(&mut px, &mut py, disc.radius);
                 (x[k], y[k], vx[k], vy[k]) = (px, py, disc.velocity[0], disc.velocity[1]);
             }
-            (x0[k], y0[k]) = (x[k], y[k]);
+            if followed {
+                (x0[k], y0[k]) = (x[k], y[k]);
+            }
         }
         out
     });

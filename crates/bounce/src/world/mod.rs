@@ -271,21 +271,26 @@ impl World {
         let mut virial = 0.0;
         let obstacles = self.obstacles.as_mut().expect("prepared");
         let has_obstacles = !obstacles.is_empty();
+        // Segments can be crossed: discs are followed from where they were last on the
+        // right side. Pegs have an inside, and need no trail.
+        let follow = obstacles.needs_trail();
         let mut obstacle_impulses = vec![[0.0; 2]; self.config.obstacles.len()];
         'substeps: for _ in 0..substeps {
             if has_obstacles {
                 obstacles::advance(&self.config, &mut self.obstacle_states, h);
                 obstacles.place(&self.config, &self.obstacle_states);
+            }
+            if follow {
                 self.trail.mark(&self.particles);
             }
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
             stats.wall_impulse.add(&moved.impulse);
-            if has_obstacles {
+            if follow {
                 // Discs that flew through a segment in this substep go back.
                 let impacts = obstacles::resolve_obstacles(
                     &mut self.particles,
-                    &mut self.trail,
+                    Some(&mut self.trail),
                     obstacles,
                     &self.obstacle_states,
                     &ctx,
@@ -307,7 +312,7 @@ impl World {
                 moved.max_stride,
             );
             reordered |= rebuilt;
-            if rebuilt && has_obstacles {
+            if rebuilt && follow {
                 self.trail.mark(&self.particles);
             }
             profile.rebuilds += rebuilt as usize;
@@ -332,7 +337,7 @@ impl World {
                 if has_obstacles {
                     let impacts = obstacles::resolve_obstacles(
                         &mut self.particles,
-                        &mut self.trail,
+                        follow.then_some(&mut self.trail),
                         obstacles,
                         &self.obstacle_states,
                         &ctx,
