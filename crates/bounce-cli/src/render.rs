@@ -51,6 +51,15 @@ impl Painter {
         }
     }
 
+    /// Colours disc `id` (a disc an emitter added) with `colour`.
+    pub fn set_colour(&mut self, id: usize, colour: Option<Rgb>) {
+        let colours = &mut self.palette.colours;
+        if colours.len() <= id {
+            colours.resize(id + 1, None);
+        }
+        colours[id] = colour;
+    }
+
     /// Draws the obstacles in these colours (one per obstacle; grey where missing).
     pub fn with_obstacle_colours(mut self, colours: Vec<Rgb>) -> Self {
         self.obstacle_colours = colours;

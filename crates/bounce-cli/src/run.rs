@@ -315,6 +315,8 @@ struct Outputs {
     /// The last step each of stats, frames and GSD was written at, so a stop does not write
     /// a step twice.
     recorded: [Option<u64>; 3],
+    /// Each emitter's colour and type, for the discs it adds.
+    emitted: Vec<(Option<bounce_scenario::Rgb>, u32)>,
 }
 
 impl Outputs {
@@ -417,12 +419,23 @@ impl Outputs {
             gif: None,
             gsd,
             recorded: [None; 3],
+            emitted: session.emitted.clone(),
         })
     }
 
     /// Writes what is due at the world's current step; with `last`, everything (the last
     /// step of a stopped run).
     fn write(&mut self, world: &World, last: bool) -> Result<()> {
+        // Discs the emitters added take their emitter's colour and type.
+        for &(id, k) in world.emitted_last_step() {
+            let (colour, kind) = self.emitted.get(k as usize).copied().unwrap_or((None, 0));
+            if let Some(painter) = &mut self.painter {
+                painter.set_colour(id.0 as usize, colour);
+            }
+            if let Some(gsd) = &mut self.gsd {
+                gsd.set_type(id.0 as usize, kind);
+            }
+        }
         let step = world.step_count();
         let spec = self.schedule.output.clone();
         let mut due = |output: usize, every: u64| {

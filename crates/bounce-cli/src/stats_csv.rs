@@ -1,9 +1,10 @@
 //! `stats.csv`: one row every `stats_every` steps, plus the first and the last step.
 //!
 //! Columns: `step,time,kinetic_energy,momentum_x,momentum_y,collisions,wall_impulse,
-//! max_overlap,temperature,potential_energy,pressure,substeps`. `pressure` is the step's
+//! max_overlap,temperature,potential_energy,pressure,substeps,particles`. `pressure` is the step's
 //! collision-virial pressure (empty in an open world, which has no area); `substeps` the
-//! substeps the step took (more than `time.substeps` with `time.max_travel`). `collisions`, `wall_impulse` and `max_overlap`
+//! substeps the step took (more than `time.substeps` with `time.max_travel`); `particles` the
+//! discs in the world (emitters add, sinks remove). `collisions`, `wall_impulse` and `max_overlap`
 //! cover the steps since the previous row (the first row, at the starting step, has zeros
 //! there).
 //!
@@ -28,7 +29,7 @@ use bounce_scenario::atomic::AtomicFile;
 use bounce_scenario::checkpoint::RunState;
 
 /// The header, in order.
-pub const COLUMNS: [&str; 12] = [
+pub const COLUMNS: [&str; 13] = [
     "step",
     "time",
     "kinetic_energy",
@@ -41,6 +42,7 @@ pub const COLUMNS: [&str; 12] = [
     "potential_energy",
     "pressure",
     "substeps",
+    "particles",
 ];
 
 /// The obstacle columns of a scenario: its named groups and whether any obstacle moves.
@@ -238,6 +240,11 @@ impl StatsCsv {
     /// row is on the schedule).
     pub fn row(&mut self, world: &World, scheduled: bool) -> Result<()> {
         let s = world.stats();
+        // Emitters and sinks change the total mass.
+        let config = world.config();
+        if !(config.emitters.is_empty() && config.sinks.is_empty()) {
+            self.total_mass = bounce_scenario::analysis::total_mass(world);
+        }
         let temperature = bounce_scenario::analysis::temperature(world, self.total_mass);
         let t = &self.totals.row;
         let extra = self.obstacles.values(world, t);
@@ -254,6 +261,7 @@ impl StatsCsv {
             bounce_scenario::analysis::potential_energy(world).to_string(),
             s.pressure.map_or_else(String::new, |p| p.to_string()),
             s.substeps.to_string(),
+            world.len().to_string(),
         ];
         record.extend(extra);
         self.writer.write_record(record)?;

@@ -8,6 +8,7 @@ use pyo3::types::PyDict;
 use serde::Deserialize;
 
 use crate::obstacle::Obstacle;
+use crate::sources::{Emitter, Sink};
 use serde::de::IntoDeserializer;
 
 /// The world's configuration: the seed's parameters, the boundary and the model options.
@@ -24,8 +25,8 @@ use serde::de::IntoDeserializer;
 /// ``wall_restitution`` (``None``: the coefficient of restitution), ``mass_model``
 /// (``"radius"``, ``"area"``, ``"per_particle"``), ``restitution_model``
 /// (``"scale_each_normal_velocity"``, ``"relative_normal_velocity"``) and
-/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``) and ``obstacles`` (a list
-/// of :class:`Obstacle`).
+/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``), ``obstacles`` (a list
+/// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -153,6 +154,15 @@ impl Config {
                         let list: Vec<PyRef<'_, Obstacle>> =
                             typed(&key, v, "a list of bounce.Obstacle")?;
                         c.obstacles = list.iter().map(|o| o.inner).collect();
+                    }
+                    "emitters" => {
+                        let list: Vec<PyRef<'_, Emitter>> =
+                            typed(&key, v, "a list of bounce.Emitter")?;
+                        c.emitters = list.iter().map(|e| e.inner).collect();
+                    }
+                    "sinks" => {
+                        let list: Vec<PyRef<'_, Sink>> = typed(&key, v, "a list of bounce.Sink")?;
+                        c.sinks = list.iter().map(|e| e.inner).collect();
                     }
                     _ => {
                         return Err(PyTypeError::new_err(format!(

@@ -7,12 +7,14 @@
 //! | `world.rs` | `World`: NumPy in and out, `step` without the GIL, the storage view |
 //! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
 //! | `obstacle.rs` | `Obstacle` (segments, pegs; fixed or moving), `polyline`, `rectangle` |
+//! | `sources.rs` | `Emitter` and `Sink`: discs added and removed during a run |
 
 use pyo3::prelude::*;
 
 mod config;
 mod gsd;
 mod obstacle;
+mod sources;
 mod world;
 
 /// The compiled core of the `bounce` package.
@@ -23,6 +25,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::StorageView>()?;
     m.add_class::<gsd::GsdWriter>()?;
     m.add_class::<obstacle::Obstacle>()?;
+    m.add_class::<sources::Emitter>()?;
+    m.add_class::<sources::Sink>()?;
     m.add_function(wrap_pyfunction!(obstacle::polyline, m)?)?;
     m.add_function(wrap_pyfunction!(obstacle::rectangle, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use bounce::law::Law;
-use bounce::{Particle, ParticleId, World as RustWorld};
+use bounce::{Particle, World as RustWorld};
 use numpy::ndarray::{Array1, Array2, ArrayView1};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
@@ -411,7 +411,8 @@ impl World {
     /// What the last step measured, as a dict: ``kinetic_energy``, ``momentum`` (px, py),
     /// ``collisions`` (pairs resolved), ``wall_impulse`` (a dict per wall), ``max_overlap``,
     /// ``virial``, ``pressure`` (``None`` in an open world), ``substeps`` and
-    /// ``obstacle_work`` (the work moving obstacles did on the discs in the step).
+    /// ``obstacle_work`` (the work moving obstacles did on the discs in the step),
+    /// ``emitted`` and ``removed`` (discs the emitters added and the sinks took).
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let world = self.get();
@@ -431,6 +432,8 @@ impl World {
         d.set_item("pressure", s.pressure)?;
         d.set_item("substeps", s.substeps)?;
         d.set_item("obstacle_work", s.obstacle_work)?;
+        d.set_item("emitted", s.emitted)?;
+        d.set_item("removed", s.removed)?;
         Ok(d)
     }
 
@@ -518,7 +521,8 @@ impl World {
     /// Ids, shape (N,): ``0 .. N-1``, the order of every id-ordered array.
     #[getter]
     fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        Array1::from_iter(0..self.get().len() as u32).into_pyarray(py)
+        let order = self.get().in_id_order();
+        Array1::from_iter(order.into_iter().map(|(id, _)| id.0)).into_pyarray(py)
     }
 
     /// Read-only arrays over the engine's own memory, in storage order, without a copy:
@@ -584,12 +588,8 @@ impl World {
 
 /// Gathers `f(i)` for each id in order, `W` values per disc.
 fn by_id<const W: usize>(world: &RustWorld, f: impl Fn(usize) -> [f64; W]) -> Vec<f64> {
-    let n = world.len();
-    let mut out = Vec::with_capacity(n * W);
-    for id in 0..n as u32 {
-        let i = world
-            .index_of(ParticleId(id))
-            .expect("ids run from 0 without gaps");
+    let mut out = Vec::with_capacity(world.len() * W);
+    for (_, i) in world.in_id_order() {
         out.extend_from_slice(&f(i));
     }
     out

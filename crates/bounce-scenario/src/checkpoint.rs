@@ -162,6 +162,8 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         restitution_model,
         velocity_update,
         obstacles,
+        emitters,
+        sinks,
     } = a;
     let mut out = Vec::new();
     let mut differ = |field: &str, x: String, y: String| {
@@ -196,6 +198,8 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         f(&b.restitution_model),
     );
     differ("velocity_update", f(velocity_update), f(&b.velocity_update));
+    differ("emitters", f(emitters), f(&b.emitters));
+    differ("sinks", f(sinks), f(&b.sinks));
     if obstacles != &b.obstacles {
         differ(
             "obstacles",

@@ -258,6 +258,14 @@ impl GsdWriter {
         Ok(())
     }
 
+    /// Gives disc `id` (a disc an emitter added) the type `typeid`.
+    pub fn set_type(&mut self, id: usize, typeid: u32) {
+        if self.typeid.len() <= id {
+            self.typeid.resize(id + 1, 0);
+        }
+        self.typeid[id] = typeid;
+    }
+
     /// Appends the world's current state as one frame.
     pub fn frame(&mut self, world: &World) -> Result<()> {
         let (centre, size) = box_of(world);

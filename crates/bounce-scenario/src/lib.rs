@@ -84,6 +84,12 @@ pub struct Scenario {
     /// Segments, polylines, boxes and pegs, fixed or moving.
     #[serde(default)]
     pub obstacle: Vec<Spanned<ObstacleSpec>>,
+    /// Regions that add discs during the run.
+    #[serde(default)]
+    pub emitter: Vec<Spanned<EmitterSpec>>,
+    /// Regions that remove the discs entering them.
+    #[serde(default)]
+    pub sink: Vec<Spanned<SinkSpec>>,
     /// What to write.
     #[serde(default)]
     pub output: OutputSpec,
@@ -311,6 +317,44 @@ pub struct DiscSpec {
     pub kind: Option<String>,
 }
 
+/// `[[emitter]]`: discs added during the run in a region, at a rate.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmitterSpec {
+    /// Where the new discs' centres go.
+    pub region: RegionSpec,
+    /// Discs per unit time.
+    pub rate: f64,
+    /// Radius or `[min, max]`.
+    pub radius: RadiusSpec,
+    /// Mean velocity, default 0.
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Each velocity component gets a uniform part in `[-spread, spread]`; default 0.
+    #[serde(default)]
+    pub spread: f64,
+    /// Random seed, default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// Stop after this many discs; default never.
+    #[serde(default)]
+    pub limit: Option<u64>,
+    /// Colour of these discs.
+    #[serde(default)]
+    pub color: Option<String>,
+    /// Their particle type in the GSD trajectory (default: the colour's name, or `A`).
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
+}
+
+/// `[[sink]]`: discs whose centre enters the region are removed at the end of a step.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SinkSpec {
+    /// The region.
+    pub region: RegionSpec,
+}
+
 /// How frames colour the discs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -487,6 +531,8 @@ pub struct Built {
     pub types: Vec<String>,
     /// Each particle's index into `types`, by id.
     pub typeid: Vec<u32>,
+    /// Each emitter's colour and index into `types`, for the discs it adds.
+    pub emitted: Vec<(Option<Rgb>, u32)>,
 }
 
 /// Reads and validates a scenario file.
@@ -608,6 +654,31 @@ impl Scenario {
                 .iter()
                 .flat_map(|o| o.get_ref().expand())
                 .collect(),
+            emitters: self
+                .emitter
+                .iter()
+                .map(|e| {
+                    let e = e.get_ref();
+                    bounce::Emitter {
+                        min: e.region.min,
+                        max: e.region.max,
+                        rate: e.rate,
+                        radius: e.radius.range(),
+                        velocity: e.velocity,
+                        spread: e.spread,
+                        seed: e.seed,
+                        limit: e.limit,
+                    }
+                })
+                .collect(),
+            sinks: self
+                .sink
+                .iter()
+                .map(|s| bounce::Sink {
+                    min: s.get_ref().region.min,
+                    max: s.get_ref().region.max,
+                })
+                .collect(),
         }
     }
 
@@ -678,7 +749,32 @@ impl Scenario {
                 at(line, format!("obstacle #{}: {message}", k + 1));
             }
         }
+        for (k, e) in self.emitter.iter().enumerate() {
+            let line = Some(line_at(source, e.span().start));
+            colour_problem(
+                &e.get_ref().color,
+                line,
+                &format!("emitter #{}", k + 1),
+                &mut at,
+            );
+        }
         for e in self.config().problems() {
+            if e.field == "emitters" || e.field == "sinks" {
+                // `emitter K: VALUE`: point at the K-th table.
+                let (what, rest) = e.value.split_once(' ').unwrap_or(("", ""));
+                let (k, value) = rest.split_once(": ").unwrap_or(("", rest));
+                let k: usize = k.parse().unwrap_or(0);
+                let span = if e.field == "emitters" {
+                    self.emitter.get(k).map(|t| t.span().start)
+                } else {
+                    self.sink.get(k).map(|t| t.span().start)
+                };
+                at(
+                    span.map(|start| line_at(source, start)),
+                    format!("{what} #{}: {value}: {}", k + 1, e.expected),
+                );
+                continue;
+            }
             if e.field == "obstacles" {
                 // `obstacle K: FIELD VALUE`: point at the K-th table.
                 let k = e.value.trim_start_matches("obstacle ").split(':').next();
@@ -1014,11 +1110,33 @@ impl Scenario {
                 problems: overlaps,
             });
         }
+        let emitted = self
+            .emitter
+            .iter()
+            .map(|e| {
+                let e = e.get_ref();
+                let name = e
+                    .kind
+                    .clone()
+                    .or_else(|| e.color.clone())
+                    .unwrap_or_else(|| "A".into());
+                let t = match types.iter().position(|t| *t == name) {
+                    Some(t) => t,
+                    None => {
+                        types.push(name);
+                        types.len() - 1
+                    }
+                };
+                let rgb = e.color.as_deref().and_then(|c| parse_colour(c).ok());
+                (rgb, t as u32)
+            })
+            .collect();
         Ok(Built {
             world,
             colours,
             types,
             typeid,
+            emitted,
         })
     }
 }

@@ -35,6 +35,8 @@ pub struct Session {
     pub types: Vec<String>,
     /// Each particle's index into `types`, by id.
     pub typeid: Vec<u32>,
+    /// Each emitter's colour and type, given to the discs it adds ([`Session::note_emitted`]).
+    pub emitted: Vec<(Option<Rgb>, u32)>,
     /// The time step.
     pub dt: f64,
     /// The step the scenario runs to (`time.steps`).
@@ -85,6 +87,7 @@ impl Session {
             colours: built.colours,
             types: built.types,
             typeid: built.typeid,
+            emitted: built.emitted,
             scenario,
         })
     }
@@ -141,7 +144,24 @@ impl Session {
 
     /// One step of `dt`.
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
-        self.world.step(self.dt)
+        self.world.step(self.dt)?;
+        self.note_emitted();
+        Ok(self.world.stats())
+    }
+
+    /// Gives the discs the emitters added in the last step their emitter's colour and type
+    /// (`colours` and `typeid` are by id, and grow with the ids given).
+    pub fn note_emitted(&mut self) {
+        for &(id, k) in self.world.emitted_last_step() {
+            let (colour, kind) = self.emitted.get(k as usize).copied().unwrap_or((None, 0));
+            let id = id.0 as usize;
+            if self.colours.len() <= id {
+                self.colours.resize(id + 1, None);
+                self.typeid.resize(id + 1, 0);
+            }
+            self.colours[id] = colour;
+            self.typeid[id] = kind;
+        }
     }
 
     /// Steps until step `target`, calling `after_step` after each; it returns
@@ -154,6 +174,7 @@ impl Session {
     ) -> Result<bool, E> {
         while self.world.step_count() < target {
             let stats = *self.world.step(self.dt)?;
+            self.note_emitted();
             if after_step(&self.world, &stats)?.is_break() && self.world.step_count() < target {
                 return Ok(false);
             }
@@ -166,7 +187,9 @@ impl Session {
     pub fn resume(&mut self, world: World, checkpoint: &str) -> Result<(), String> {
         let mut differences =
             crate::checkpoint::config_differences(self.world.config(), world.config());
-        if world.len() != self.world.len() {
+        // Emitters and sinks change the count; otherwise it is the scenario's.
+        let fixed_count = world.config().emitters.is_empty() && world.config().sinks.is_empty();
+        if fixed_count && world.len() != self.world.len() {
             differences.push(format!(
                 "particles: {} vs {}",
                 self.world.len(),
@@ -183,6 +206,17 @@ impl Session {
         let threads = self.world.threads();
         self.world = world;
         let _ = self.world.set_threads(threads);
+        // The discs emitted before the checkpoint: their emitter's colour and type.
+        let scenario_discs = self.colours.len() as u32;
+        for id in scenario_discs..self.world.next_id() {
+            if let Some(k) = self.world.emitter_of(bounce::ParticleId(id)) {
+                let (colour, kind) = self.emitted.get(k as usize).copied().unwrap_or((None, 0));
+                self.colours.resize(id as usize + 1, None);
+                self.typeid.resize(id as usize + 1, 0);
+                self.colours[id as usize] = colour;
+                self.typeid[id as usize] = kind;
+            }
+        }
         Ok(())
     }
 }

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::obstacles::Obstacle;
+use crate::sources::{Emitter, Sink};
 
 /// Simulation parameters. Build with [`Config::default`] and change what you need.
 ///
@@ -71,6 +72,10 @@ pub struct Config {
     /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
     /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
     pub obstacles: Vec<Obstacle>,
+    /// Regions that add discs at a rate during the run (see [`Emitter`]). Default none.
+    pub emitters: Vec<Emitter>,
+    /// Regions that remove the discs entering them (see [`Sink`]). Default none.
+    pub sinks: Vec<Sink>,
 }
 
 /// The most substeps a step may have ([`Config::substeps`]).
@@ -90,6 +95,8 @@ impl Default for Config {
             restitution_model: RestitutionModel::ScaleEachNormalVelocity,
             velocity_update: VelocityUpdate::AllDetected,
             obstacles: Vec::new(),
+            emitters: Vec::new(),
+            sinks: Vec::new(),
         }
     }
 }
@@ -306,6 +313,16 @@ impl Config {
                     format!("obstacle {k}: {field} {value}"),
                     expected,
                 );
+            }
+        }
+        for (k, emitter) in self.emitters.iter().enumerate() {
+            if let Some((value, expected)) = emitter.problem() {
+                err("emitters", format!("emitter {k}: {value}"), expected);
+            }
+        }
+        for (k, sink) in self.sinks.iter().enumerate() {
+            if let Some((value, expected)) = sink.problem() {
+                err("sinks", format!("sink {k}: {value}"), expected);
             }
         }
         out

@@ -50,6 +50,7 @@ mod parallel;
 mod particles;
 mod resolve;
 pub mod scene;
+mod sources;
 mod stats;
 mod world;
 
@@ -60,5 +61,6 @@ pub use geometry::WallImpulse;
 pub use obstacles::{Motion, Obstacle, ObstacleState, Shape};
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
+pub use sources::{Emitter, EmitterState, Sink};
 pub use stats::{StepProfile, StepStats};
 pub use world::{StepError, World, WorldError};

@@ -463,7 +463,7 @@ fn reach_of(shape: &Shape, r: f64, law: &Law) -> f64 {
 }
 
 /// Whether a disc of radius `r` at `p` collides with `shape` (what placement avoids).
-fn touches(shape: &Shape, p: [f64; 2], r: f64, law: &Law) -> bool {
+pub(crate) fn touches(shape: &Shape, p: [f64; 2], r: f64, law: &Law) -> bool {
     nearest(shape, p).1 <= reach_of(shape, r, law)
 }
 

@@ -242,6 +242,27 @@ impl Particles {
         self.image.push([0, 0]);
     }
 
+    /// Keeps the discs `keep` says (by storage index), in order; returns how many went.
+    pub(crate) fn retain(&mut self, keep: impl Fn(usize) -> bool) -> usize {
+        let n = self.len();
+        let mut to = 0;
+        for i in 0..n {
+            if keep(i) {
+                self.id[to] = self.id[i];
+                self.x[to] = self.x[i];
+                self.y[to] = self.y[i];
+                self.vx[to] = self.vx[i];
+                self.vy[to] = self.vy[i];
+                self.radius[to] = self.radius[i];
+                self.mass[to] = self.mass[i];
+                self.image[to] = self.image[i];
+                to += 1;
+            }
+        }
+        self.truncate(to);
+        n - to
+    }
+
     pub(crate) fn truncate(&mut self, len: usize) {
         self.id.truncate(len);
         self.x.truncate(len);

@@ -38,6 +38,10 @@ pub struct StepStats {
     /// collisions (`J` the disc's impulse, `u` the obstacle's velocity): what a piston puts
     /// into the gas.
     pub obstacle_work: f64,
+    /// Discs the emitters added at the start of the step.
+    pub emitted: usize,
+    /// Discs the sinks removed at the end of the step.
+    pub removed: usize,
 }
 
 /// Wall-clock seconds spent in each stage of the last step, summed over its substeps.

@@ -16,6 +16,8 @@ ids and bits: ``world.state_hash()`` after N steps equals the hash ``bounce run`
 
 Obstacles (segments and pegs, fixed or moving) go in ``Config(obstacles=[...])`` or
 ``world.add_obstacles([...])``; ``polyline`` and ``rectangle`` make lists of segments.
+``Config(emitters=[Emitter(...)], sinks=[Sink(...)])`` add and remove discs during a run
+(ids are never reused; arrays in id order skip the removed ones).
 
 Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView`,
 :class:`GSDWriter`.
@@ -23,8 +25,10 @@ Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView
 
 from ._native import (
     Config,
+    Emitter,
     GSDWriter,
     Obstacle,
+    Sink,
     StorageView,
     World,
     __version__,
@@ -38,6 +42,8 @@ __all__ = [
     "Obstacle",
     "polyline",
     "rectangle",
+    "Emitter",
+    "Sink",
     "StorageView",
     "GSDWriter",
     "__version__",

@@ -27,6 +27,31 @@ class Stats(TypedDict):
     pressure: Optional[float]
     substeps: int
     obstacle_work: float
+    emitted: int
+    removed: int
+
+class Emitter:
+    """Adds discs in a rectangle at a rate."""
+
+    def __init__(
+        self,
+        min: _Pair,
+        max: _Pair,
+        rate: float,
+        radius: Union[float, _Pair],
+        *,
+        velocity: _Pair = (0.0, 0.0),
+        spread: float = 0.0,
+        seed: int = 0,
+        limit: Optional[int] = None,
+    ) -> None: ...
+    @property
+    def rate(self) -> float: ...
+
+class Sink:
+    """Removes the discs whose centre enters a rectangle."""
+
+    def __init__(self, min: _Pair, max: _Pair) -> None: ...
 
 class Obstacle:
     """A segment or a peg that discs collide with, fixed or moving."""
@@ -98,6 +123,8 @@ class Config:
         restitution_model: Literal["scale_each_normal_velocity", "relative_normal_velocity"] = ...,
         velocity_update: Literal["all_detected", "approaching_only"] = ...,
         obstacles: Sequence[Obstacle] = ...,
+        emitters: Sequence[Emitter] = ...,
+        sinks: Sequence[Sink] = ...,
     ) -> None: ...
     @property
     def obstacles(self) -> List[Obstacle]: ...

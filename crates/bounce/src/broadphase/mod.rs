@@ -214,6 +214,8 @@ impl Broadphase {
         self.cell_start.push(0);
         self.max_radius = 0.0;
         if radius.is_empty() {
+            // No discs (all removed by a sink, say): no blocks, no candidates.
+            self.candidates.clear();
             return 0.0;
         }
         // 1. Levels: a band of interaction diameters each.

@@ -22,6 +22,7 @@ use crate::obstacles::{self, Impacts, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
+use crate::sources::{self, EmitterState};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
 
 mod state;
@@ -63,6 +64,9 @@ pub struct World {
     /// The obstacles binned for the step; `None` until the next step builds them.
     #[serde(skip)]
     obstacles: Option<Obstacles>,
+    /// The largest disc radius the obstacles' grid covers.
+    #[serde(skip)]
+    obstacle_radius: f64,
     /// Where the discs were last on the right side of every segment (with obstacles).
     #[serde(skip)]
     trail: Trail,
@@ -70,9 +74,20 @@ pub struct World {
     contacts: Contacts,
     #[serde(skip)]
     exec: Executor,
-    /// `index_of[id]` = storage index, built on demand after each step.
+    /// How far each emitter has got.
+    emitter_states: Vec<EmitterState>,
+    /// How many discs have been removed (sinks, `remove_particles`): ids run to
+    /// `next_id = len + removed`, with gaps where removed ones were.
+    removed: u32,
+    /// Which emitter gave which ids: `[first id, count, emitter]`, ascending (runs of
+    /// consecutive ids from one emitter are merged).
+    emitted_ids: Vec<[u32; 3]>,
+    /// The discs the emitters added in the last step, with their emitter.
     #[serde(skip)]
-    index_of: OnceLock<Vec<u32>>,
+    emitted_last_step: Vec<(ParticleId, u32)>,
+    /// Where each id is stored, built on demand after each step.
+    #[serde(skip)]
+    index_of: OnceLock<IndexMap>,
 }
 
 /// Why a step was refused.
@@ -120,6 +135,7 @@ impl World {
     pub fn new(config: Config) -> Result<World, ConfigError> {
         config.validate()?;
         let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
+        let emitter_count = config.emitters.len();
         Ok(World {
             config,
             particles: Particles::default(),
@@ -135,6 +151,11 @@ impl World {
             obstacle_work: 0.0,
             obstacles: None,
             trail: Trail::default(),
+            obstacle_radius: 0.0,
+            emitter_states: vec![EmitterState::default(); emitter_count],
+            removed: 0,
+            emitted_ids: Vec::new(),
+            emitted_last_step: Vec::new(),
             contacts: Contacts::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
@@ -169,6 +190,16 @@ impl World {
                 })
                 .collect();
             self.obstacle_impulses = vec![[0.0; 2]; config.obstacles.len()];
+        }
+        if config.emitters != self.config.emitters {
+            // Emitters that stay keep their counts; new or changed ones start afresh.
+            let old = &self.config.emitters;
+            self.emitter_states = (0..config.emitters.len())
+                .map(|k| match old.get(k) {
+                    Some(e) if *e == config.emitters[k] => self.emitter_states[k],
+                    _ => EmitterState::default(),
+                })
+                .collect();
         }
         self.config = config;
         self.obstacles = None;
@@ -222,7 +253,13 @@ impl World {
         }
         self.next_id += ids.len() as u32;
         self.index_of = OnceLock::new();
-        self.obstacles = None;
+        // The obstacles' grid covers discs up to the radius it was built for.
+        if self.particles.radius[start..]
+            .iter()
+            .any(|&r| r > self.obstacle_radius)
+        {
+            self.obstacles = None;
+        }
         self.broadphase.invalidate();
         self.refresh_stats();
         Ok(ids)
@@ -256,12 +293,14 @@ impl World {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep(dt));
         }
+        let emitted = self.emit(dt);
         let substeps = self.substeps_for(dt);
         let h = dt / substeps as f64;
         self.prepare_obstacles();
         let ctx = StepContext::new(&self.config, h, &self.exec);
         let mut stats = StepStats {
             substeps,
+            emitted,
             ..StepStats::default()
         };
         let mut profile = StepProfile::default();
@@ -358,6 +397,11 @@ impl World {
                 profile.resolve += clock.lap();
             }
         }
+        let geometry = ctx.geometry;
+        if !self.config.sinks.is_empty() && finite {
+            stats.removed = self.drain_sinks();
+            reordered |= stats.removed > 0;
+        }
         let measured = Measured {
             total_mass: self.measured.total_mass,
             radius_sum: self.measured.radius_sum,
@@ -373,7 +417,7 @@ impl World {
         // impulses over the step.
         stats.virial = 0.5 * virial / dt;
         let mean_radius = measured.radius_sum / self.particles.len().max(1) as f64;
-        stats.pressure = ctx.geometry.area(mean_radius).map(|area| {
+        stats.pressure = geometry.area(mean_radius).map(|area| {
             let [px, py] = measured.momentum;
             let drift = if measured.total_mass > 0.0 {
                 (px * px + py * py) / (2.0 * measured.total_mass)
@@ -404,10 +448,116 @@ impl World {
         Ok(&self.stats)
     }
 
+    /// The emitters' discs for a step of `dt`, added before it; returns how many.
+    fn emit(&mut self, dt: f64) -> usize {
+        self.emitted_last_step.clear();
+        if self.config.emitters.is_empty() {
+            return 0;
+        }
+        let law = Law::new(&self.config);
+        let shapes = self.obstacle_shapes();
+        let mut added = 0;
+        for k in 0..self.config.emitters.len() {
+            let emitter = self.config.emitters[k];
+            let config = &self.config;
+            let blocked = |disc: &Particle| {
+                disc.validate(config).is_err()
+                    || shapes
+                        .iter()
+                        .any(|s| obstacles::touches(s, disc.position, disc.radius, &law))
+            };
+            let discs = sources::emit(
+                &emitter,
+                &mut self.emitter_states[k],
+                dt,
+                &self.particles,
+                &law,
+                blocked,
+            );
+            if discs.is_empty() {
+                continue;
+            }
+            let ids = self
+                .add_particles(discs)
+                .expect("emitted discs are validated by `blocked`");
+            added += ids.len();
+            let (first, count) = (ids[0].0, ids.len() as u32);
+            match self.emitted_ids.last_mut() {
+                Some(run) if run[2] == k as u32 && run[0] + run[1] == first => run[1] += count,
+                _ => self.emitted_ids.push([first, count, k as u32]),
+            }
+            self.emitted_last_step
+                .extend(ids.into_iter().map(|id| (id, k as u32)));
+        }
+        added
+    }
+
+    /// Removes the discs inside a sink; returns how many.
+    fn drain_sinks(&mut self) -> usize {
+        let sinks = &self.config.sinks;
+        let p = &self.particles;
+        let inside: Vec<bool> = (0..p.len())
+            .map(|i| sinks.iter().any(|s| s.contains([p.x[i], p.y[i]])))
+            .collect();
+        let gone = self.particles.retain(|i| !inside[i]);
+        if gone > 0 {
+            self.after_removal(gone);
+        }
+        gone
+    }
+
+    /// Removes the discs with these ids (unknown ids are skipped); returns how many went.
+    /// Their ids are never given again.
+    pub fn remove_particles(&mut self, ids: &[ParticleId]) -> usize {
+        let mut doomed = vec![false; self.particles.len()];
+        for &id in ids {
+            if let Some(i) = self.index_of(id) {
+                doomed[i] = true;
+            }
+        }
+        let gone = self.particles.retain(|i| !doomed[i]);
+        if gone > 0 {
+            self.after_removal(gone);
+            self.refresh_stats();
+        }
+        gone
+    }
+
+    fn after_removal(&mut self, gone: usize) {
+        self.removed += gone as u32;
+        self.index_of = OnceLock::new();
+        self.broadphase.invalidate();
+        (self.measured.total_mass, self.measured.radius_sum) = self.totals_by_id();
+    }
+
+    /// The discs the emitters added at the start of the last step, each with the index of
+    /// its emitter in `Config::emitters`.
+    pub fn emitted_last_step(&self) -> &[(ParticleId, u32)] {
+        &self.emitted_last_step
+    }
+
+    /// The emitter (its index in `Config::emitters`) that added disc `id`, if one did.
+    pub fn emitter_of(&self, id: ParticleId) -> Option<u32> {
+        let k = self.emitted_ids.partition_point(|run| run[0] <= id.0);
+        let run = self.emitted_ids.get(k.checked_sub(1)?)?;
+        (id.0 < run[0] + run[1]).then_some(run[2])
+    }
+
+    /// How far each emitter has got.
+    pub fn emitter_states(&self) -> &[EmitterState] {
+        &self.emitter_states
+    }
+
+    /// The next id a disc will get: one more than every id given so far.
+    pub fn next_id(&self) -> u32 {
+        self.next_id
+    }
+
     /// Builds the obstacles' grid when the configuration or the discs changed.
     fn prepare_obstacles(&mut self) {
         if self.obstacles.is_none() {
             let max_radius = self.particles.radius.iter().copied().fold(0.0, f64::max);
+            self.obstacle_radius = max_radius;
             self.obstacles = Some(Obstacles::new(
                 &self.config,
                 &self.obstacle_states,
@@ -501,16 +651,18 @@ impl World {
 
     /// The storage index of particle `id` now.
     pub fn index_of(&self, id: ParticleId) -> Option<usize> {
-        let map = self.index_of.get_or_init(|| {
-            let mut map = vec![u32::MAX; self.next_id as usize];
-            for (i, id) in self.particles.id.iter().enumerate() {
-                map[id.0 as usize] = i as u32;
-            }
-            map
-        });
-        map.get(id.0 as usize)
-            .filter(|&&i| i != u32::MAX)
-            .map(|&i| i as usize)
+        self.index_map().get(id)
+    }
+
+    fn index_map(&self) -> &IndexMap {
+        self.index_of
+            .get_or_init(|| IndexMap::new(&self.particles.id, self.next_id))
+    }
+
+    /// Every disc as `(id, storage index)`, in id order (ids have gaps where a sink or
+    /// `remove_particles` took discs).
+    pub fn in_id_order(&self) -> Vec<(ParticleId, usize)> {
+        self.index_map().in_order()
     }
 
     /// Particle `id` as it is now.
@@ -584,10 +736,7 @@ impl World {
             ));
         }
         let mut updated = Vec::with_capacity(values.len());
-        for (k, &value) in values.iter().enumerate() {
-            let i = self
-                .index_of(ParticleId(k as u32))
-                .ok_or((k, ParticleError::UnknownId(ParticleId(k as u32))))?;
+        for (k, (&value, (_, i))) in values.iter().zip(self.in_id_order()).enumerate() {
             let mut particle = self.particles.get(i).expect("an index from index_of");
             apply(&mut particle, value);
             particle.validate(&self.config).map_err(|e| (k, e))?;
@@ -670,12 +819,10 @@ impl World {
         };
         eat(self.steps.to_le_bytes());
         let p = &self.particles;
-        for id in 0..self.next_id {
-            if let Some(i) = self.index_of(ParticleId(id)) {
-                eat((id as u64).to_le_bytes());
-                for v in [p.x[i], p.y[i], p.vx[i], p.vy[i], p.radius[i]] {
-                    eat(v.to_bits().to_le_bytes());
-                }
+        for (id, i) in self.in_id_order() {
+            eat((id.0 as u64).to_le_bytes());
+            for v in [p.x[i], p.y[i], p.vx[i], p.vy[i], p.radius[i]] {
+                eat(v.to_bits().to_le_bytes());
             }
         }
         hash
@@ -703,11 +850,9 @@ impl World {
         let p = &self.particles;
         let law = Law::new(&self.config);
         let (mut mass, mut radius) = (0.0, 0.0);
-        for id in 0..self.next_id {
-            if let Some(i) = self.index_of(ParticleId(id)) {
-                mass += law.mass(p.radius[i], p.mass[i]);
-                radius += p.radius[i];
-            }
+        for (_, i) in self.in_id_order() {
+            mass += law.mass(p.radius[i], p.mass[i]);
+            radius += p.radius[i];
         }
         (mass, radius)
     }
@@ -759,6 +904,59 @@ fn absorb(
         if let crate::Motion::Driven { mass, .. } = config.obstacles[k].motion {
             states[k].velocity[0] += j[0] / mass;
             states[k].velocity[1] += j[1] / mass;
+        }
+    }
+}
+
+/// Where each id is stored: a table by id while ids are dense, else the sorted pairs (ids
+/// removed by sinks leave gaps; a table by id would grow with every id ever given).
+#[derive(Debug)]
+enum IndexMap {
+    Dense(Vec<u32>),
+    Sparse(Vec<(ParticleId, u32)>),
+}
+
+impl IndexMap {
+    fn new(ids: &[ParticleId], next_id: u32) -> IndexMap {
+        if next_id as usize <= 2 * ids.len() + 1024 {
+            let mut map = vec![u32::MAX; next_id as usize];
+            for (i, id) in ids.iter().enumerate() {
+                map[id.0 as usize] = i as u32;
+            }
+            IndexMap::Dense(map)
+        } else {
+            let mut pairs: Vec<(ParticleId, u32)> = ids
+                .iter()
+                .enumerate()
+                .map(|(i, &id)| (id, i as u32))
+                .collect();
+            pairs.sort_unstable();
+            IndexMap::Sparse(pairs)
+        }
+    }
+
+    fn get(&self, id: ParticleId) -> Option<usize> {
+        match self {
+            IndexMap::Dense(map) => map
+                .get(id.0 as usize)
+                .filter(|&&i| i != u32::MAX)
+                .map(|&i| i as usize),
+            IndexMap::Sparse(pairs) => pairs
+                .binary_search_by_key(&id, |&(id, _)| id)
+                .ok()
+                .map(|k| pairs[k].1 as usize),
+        }
+    }
+
+    fn in_order(&self) -> Vec<(ParticleId, usize)> {
+        match self {
+            IndexMap::Dense(map) => map
+                .iter()
+                .enumerate()
+                .filter(|&(_, &i)| i != u32::MAX)
+                .map(|(id, &i)| (ParticleId(id as u32), i as usize))
+                .collect(),
+            IndexMap::Sparse(pairs) => pairs.iter().map(|&(id, i)| (id, i as usize)).collect(),
         }
     }
 }

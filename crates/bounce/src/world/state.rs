@@ -10,6 +10,7 @@ use crate::geometry::Geometry;
 use crate::law::Law;
 use crate::obstacles::ObstacleState;
 use crate::particles::{Particle, Particles};
+use crate::sources::EmitterState;
 use crate::stats::StepStats;
 
 /// The serialized form of a [`World`], validated on the way in.
@@ -25,6 +26,9 @@ pub(super) struct WorldState {
     pub(super) obstacle_states: Vec<ObstacleState>,
     pub(super) obstacle_impulses: Vec<[f64; 2]>,
     pub(super) obstacle_work: f64,
+    pub(super) emitter_states: Vec<EmitterState>,
+    pub(super) removed: u32,
+    pub(super) emitted_ids: Vec<[u32; 3]>,
 }
 
 pub(super) fn serialize_reference<S: serde::Serializer>(
@@ -56,26 +60,30 @@ impl TryFrom<WorldState> for World {
                 "{n} ids but array lengths {lengths:?}"
             )));
         }
-        // Particles are never removed, so the ids are exactly 0..n and `next_id` is n. Checked
-        // with a bitmap of n (the arrays' own length), never by a size read from the data.
-        if state.next_id as usize != n {
+        // Ids are given in order and never again: `next_id` is the discs kept plus those
+        // removed, and the ids are distinct and below it. Checked by sorting the ids (no
+        // table sized by a number read from the data).
+        if state.next_id as u64 != n as u64 + state.removed as u64 {
             return Err(WorldError::Inconsistent(format!(
-                "next_id {} does not follow the {n} particle ids",
+                "next_id {} does not follow the {n} particle ids and {} removed",
+                state.next_id, state.removed
+            )));
+        }
+        let mut ids: Vec<u32> = p.id.iter().map(|id| id.0).collect();
+        ids.sort_unstable();
+        if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+            return Err(WorldError::Inconsistent(format!("id {} is repeated", w[0])));
+        }
+        if let Some(&last) = ids.last()
+            && last >= state.next_id
+        {
+            return Err(WorldError::Inconsistent(format!(
+                "id {last} is not below next_id {}",
                 state.next_id
             )));
         }
-        let mut seen = vec![false; n];
         for i in 0..n {
             let id = p.id[i];
-            match seen.get_mut(id.0 as usize) {
-                Some(s) if !*s => *s = true,
-                _ => {
-                    return Err(WorldError::Inconsistent(format!(
-                        "id {} is repeated or not below next_id {}",
-                        id.0, state.next_id
-                    )));
-                }
-            }
             // Positions may sit slightly outside the walls after an overlap push, so a loaded
             // state is checked for finite values and sizes, not for the box.
             let particle = Particle {
@@ -123,6 +131,30 @@ impl TryFrom<WorldState> for World {
             )));
         }
         world.obstacle_work = state.obstacle_work;
+        if state.emitter_states.len() != world.config.emitters.len() {
+            return Err(WorldError::Inconsistent(format!(
+                "{} emitters but {} emitter states",
+                world.config.emitters.len(),
+                state.emitter_states.len()
+            )));
+        }
+        world.emitter_states = state.emitter_states;
+        world.removed = state.removed;
+        let mut end = 0u64;
+        for run in &state.emitted_ids {
+            let run_end = run[0] as u64 + run[1] as u64;
+            if (run[0] as u64) < end
+                || run_end > state.next_id as u64
+                || run[2] as usize >= world.config.emitters.len()
+            {
+                return Err(WorldError::Inconsistent(format!(
+                    "emitted ids {run:?} overlap, pass next_id {} or name no emitter",
+                    state.next_id
+                )));
+            }
+            end = run_end;
+        }
+        world.emitted_ids = state.emitted_ids;
         world.broadphase.reference = state.reference;
         world.particles = state.particles;
         world.next_id = state.next_id;

@@ -111,6 +111,9 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         obstacle_states: Vec::new(),
         obstacle_impulses: Vec::new(),
         obstacle_work: 0.0,
+        emitter_states: Vec::new(),
+        removed: 0,
+        emitted_ids: Vec::new(),
     };
     let error = World::try_from(state).unwrap_err().to_string();
     assert!(
@@ -164,4 +167,40 @@ fn later_solver_passes_meet_the_walls() {
     };
     close(run(1), [1.0, -1.0, 2.7, 0.0, 0.0]);
     close(run(2), [1.0, 0.0, 2.85, 0.5, 1.5]);
+}
+
+#[test]
+fn a_sink_can_empty_the_world_and_it_keeps_stepping() {
+    // Found by fuzzing: with every disc gone, a stale candidate list outlived its blocks.
+    let config = Config {
+        boundary: crate::Boundary::walls([0.0, 0.0], [20.0, 10.0]),
+        sinks: vec![crate::Sink {
+            min: [15.0, 0.0],
+            max: [20.0, 10.0],
+        }],
+        ..Config::default()
+    };
+    let mut world = World::new(config).unwrap();
+    for k in 0..5 {
+        world
+            .add_particle(Particle::new([2.0 + 2.0 * k as f64, 5.0], [10.0, 0.0], 0.4))
+            .unwrap();
+    }
+    let mut removed = 0;
+    for _ in 0..300 {
+        removed += world.step(0.01).unwrap().removed;
+    }
+    assert_eq!((world.len(), removed), (0, 5));
+    assert_eq!(world.next_id(), 5);
+    // Still a world: a new disc gets the next id and steps.
+    let id = world
+        .add_particle(Particle::new([5.0, 5.0], [1.0, 0.0], 0.4))
+        .unwrap();
+    assert_eq!(id, ParticleId(5));
+    world.step(0.01).unwrap();
+    assert!(world.particle(id).is_some() && world.particle(ParticleId(0)).is_none());
+    // The saved form keeps the gap in the ids.
+    let json = serde_json::to_string(&world).unwrap();
+    let back: World = serde_json::from_str(&json).unwrap();
+    assert_eq!(back.state_hash(), world.state_hash());
 }
