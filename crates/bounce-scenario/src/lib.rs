@@ -897,10 +897,11 @@ impl Scenario {
                 None,
                 "the scenario asks for more particles than 2^64 (a count overflows)".into(),
             );
-        } else if count == Some(0) {
+        } else if count == Some(0) && self.emitter.is_empty() {
             at(
                 None,
-                "the scenario has no particles: add [[gas]], [[lattice]], [[block]] or [[disc]]"
+                "the scenario has no particles: add [[gas]], [[lattice]], [[block]], [[disc]] \
+                 or [[emitter]]"
                     .into(),
             );
         }

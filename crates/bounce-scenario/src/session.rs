@@ -324,10 +324,16 @@ impl Session {
         let mean_diameter = 2.0 * p.radius().iter().sum::<f64>() / n;
         let r_min = p.radius().iter().copied().fold(f64::INFINITY, f64::min);
         let h = self.dt / config.substeps as f64;
-        let mean_travel = sum / n * h / mean_diameter;
+        // No discs yet (an emitter's box at its start): nothing travels.
+        let mean_travel = if p.is_empty() {
+            0.0
+        } else {
+            sum / n * h / mean_diameter
+        };
         let max_travel = match config.max_travel {
             // Adaptive substeps hold every disc to this.
             Some(f) => f.min(max * h / r_min),
+            None if p.is_empty() => 0.0,
             None => max * h / r_min,
         };
         let packing = config.boundary.bounds().map(|(lo, hi)| {

@@ -182,8 +182,14 @@ impl ViewerApp {
         let start = Instant::now();
         let mut pairs = 0;
         for _ in 0..self.steps_per_frame {
-            match self.session.world.step(self.session.dt) {
-                Ok(stats) => pairs += stats.pairs,
+            match self.session.step() {
+                Ok(stats) => {
+                    pairs += stats.pairs;
+                    // Discs an emitter added take its colour.
+                    if stats.emitted > 0 {
+                        self.palette.colours.clone_from(&self.session.colours);
+                    }
+                }
                 Err(e) => {
                     self.message = e.to_string();
                     self.running = false;
@@ -1007,5 +1013,32 @@ mod tests {
         assert!(on_wall, "the wall");
         let galton = app("galton-board");
         assert_eq!(galton.obstacle_colours[0], [0x8d, 0xa9, 0xc4]);
+    }
+
+    #[test]
+    fn emitted_discs_appear_in_their_emitters_colour() {
+        let text = r##"
+[world]
+min = [0.0, 0.0]
+max = [20.0, 20.0]
+[time]
+dt = 0.05
+steps = 100
+[[emitter]]
+region = { min = [2.0, 2.0], max = [18.0, 18.0] }
+rate = 20.0
+radius = 0.3
+color = "#00ff00"
+[[sink]]
+region = { min = [0.0, 0.0], max = [20.0, 1.0] }
+"##;
+        let mut a = app("gas");
+        a.open_text("emit.toml", text).unwrap();
+        for _ in 0..10 {
+            a.step();
+        }
+        assert_eq!(a.session.world.len(), 10, "{}", a.status());
+        let last = a.session.world.next_id() as usize - 1;
+        assert_eq!(a.palette.colours[last], Some([0, 255, 0]));
     }
 }
