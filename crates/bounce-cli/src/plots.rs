@@ -30,6 +30,22 @@ pub struct Sample {
     pub momentum: [f64; 2],
     /// Potential energy in the gravity field.
     pub potential: f64,
+    /// A piston's centre and the mean force on it since the previous row, when the run has
+    /// one.
+    pub piston: Option<[f64; 4]>,
+}
+
+/// A piston: a moving segment of `length` across a box whose gas lies on one side, the
+/// side `towards` points to from it (the area between it and the wall there).
+#[derive(Clone, Copy, Debug)]
+pub struct Piston {
+    /// The segment's length: pressure is force over length.
+    pub length: f64,
+    /// The unit normal from the piston into the gas.
+    pub towards: [f64; 2],
+    /// The box: the gas fills from the piston to the wall `towards` points at.
+    pub min: [f64; 2],
+    pub max: [f64; 2],
 }
 
 pub(crate) fn register_font() -> Result<()> {
@@ -45,7 +61,13 @@ pub(crate) fn register_font() -> Result<()> {
 }
 
 /// Draws `plots.png` into `path` (atomically).
-pub fn draw(history: &[Sample], world: &World, total_mass: f64, path: &Path) -> Result<()> {
+pub fn draw(
+    history: &[Sample],
+    world: &World,
+    total_mass: f64,
+    piston: Option<&Piston>,
+    path: &Path,
+) -> Result<()> {
     register_font()?;
     let (w, h) = (1400u32, 560u32);
     let mut rgb = vec![0u8; (w * h * 3) as usize];
@@ -77,16 +99,20 @@ pub fn draw(history: &[Sample], world: &World, total_mass: f64, path: &Path) -> 
                 &[("kinetic", &|s: &Sample| s.energy, &BLUE)],
             )?;
         }
-        series(
-            &bottom,
-            "|momentum|",
-            history,
-            &[(
+        match piston {
+            // A piston run: its pressure against the gas's area (instead of the momentum).
+            Some(piston) => pressure_area(&bottom, history, piston)?,
+            None => series(
+                &bottom,
                 "|momentum|",
-                &|s: &Sample| s.momentum[0].hypot(s.momentum[1]),
-                &RED,
-            )],
-        )?;
+                history,
+                &[(
+                    "|momentum|",
+                    &|s: &Sample| s.momentum[0].hypot(s.momentum[1]),
+                    &RED,
+                )],
+            )?,
+        }
         histogram(&right, world, total_mass, !gravity)?;
         root.present().map_err(plot_err)?;
     }
@@ -149,6 +175,96 @@ fn tick(v: &f64) -> String {
 }
 
 type Line<'a> = (&'a str, &'a dyn Fn(&Sample) -> f64, &'a RGBColor);
+
+/// The pressure on a piston (the force into it over its length, mean over each row's
+/// steps) against the area the gas has, with the ideal gas's adiabat through the first
+/// measured point (2D: `P A^2` constant, γ = 2) for comparison.
+fn pressure_area<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    history: &[Sample],
+    piston: &Piston,
+) -> Result<()> {
+    let [nx, ny] = piston.towards;
+    // The gas's area: the box's width across the normal times the gap to the far wall.
+    let points: Vec<(f64, f64)> = history
+        .iter()
+        .skip(1)
+        .filter_map(|s| s.piston)
+        .map(|[x, y, fx, fy]| {
+            let gap = if nx.abs() > ny.abs() {
+                let wall = if nx > 0.0 {
+                    piston.max[0]
+                } else {
+                    piston.min[0]
+                };
+                (wall - x).abs() * (piston.max[1] - piston.min[1])
+            } else {
+                let wall = if ny > 0.0 {
+                    piston.max[1]
+                } else {
+                    piston.min[1]
+                };
+                (wall - y).abs() * (piston.max[0] - piston.min[0])
+            };
+            // The gas pushes the piston against the normal.
+            let pressure = -(fx * nx + fy * ny) / piston.length;
+            (gap, pressure)
+        })
+        .filter(|(a, p)| a.is_finite() && p.is_finite() && *a > 0.0)
+        .collect();
+    let (a_lo, a_hi) = axis_range(points.iter().map(|p| p.0));
+    let (p_lo, p_hi) = axis_range(points.iter().map(|p| p.1));
+    let mut chart = ChartBuilder::on(area)
+        .caption("pressure on the piston against area", ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(84)
+        .build_cartesian_2d(a_lo..a_hi, p_lo..p_hi)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("area")
+        .y_desc("pressure")
+        .x_labels(6)
+        .y_labels(6)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(plot_err)?;
+    chart
+        .draw_series(
+            points
+                .iter()
+                .map(|&(a, p)| Circle::new((a, p.clamp(p_lo, p_hi)), 2, BLUE.filled())),
+        )
+        .map_err(plot_err)?
+        .label("measured (mean per row)")
+        .legend(|(x, y)| Circle::new((x + 7, y), 3, BLUE.filled()));
+    // The adiabat through the mean of the first few points.
+    let first: Vec<&(f64, f64)> = points.iter().take(5).collect();
+    if !first.is_empty() {
+        let a0 = first.iter().map(|p| p.0).sum::<f64>() / first.len() as f64;
+        let p0 = first.iter().map(|p| p.1).sum::<f64>() / first.len() as f64;
+        let curve = (0..=100).map(|k| {
+            let a = a_lo + (a_hi - a_lo) * k as f64 / 100.0;
+            (a, (p0 * a0 * a0 / (a * a)).clamp(p_lo, p_hi))
+        });
+        chart
+            .draw_series(LineSeries::new(curve, BLACK.stroke_width(2)))
+            .map_err(plot_err)?
+            .label("ideal gas adiabat P A² = const")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], BLACK.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(())
+}
 
 fn series<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,

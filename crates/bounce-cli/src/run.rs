@@ -317,6 +317,8 @@ struct Outputs {
     recorded: [Option<u64>; 3],
     /// Each emitter's colour and type, for the discs it adds.
     emitted: Vec<(Option<bounce_scenario::Rgb>, u32)>,
+    /// The first named moving segment, when the box has walls: plots show its pressure.
+    piston: Option<(String, plots::Piston)>,
 }
 
 impl Outputs {
@@ -420,6 +422,7 @@ impl Outputs {
             gsd,
             recorded: [None; 3],
             emitted: session.emitted.clone(),
+            piston: piston_of(session),
         })
     }
 
@@ -515,14 +518,60 @@ impl Outputs {
             gif_from_frames(&frames, painter.size(), &self.dir.join("animation.gif"))?;
         }
         if self.schedule.output.plots {
-            let history = read_history(&self.dir.join("stats.csv"))?;
+            let history = read_history(
+                &self.dir.join("stats.csv"),
+                self.piston.as_ref().map(|(name, _)| name.as_str()),
+            )?;
             plots::draw(
                 &history,
                 world,
                 self.total_mass,
+                self.piston.as_ref().map(|(_, p)| p),
                 &self.dir.join("plots.png"),
             )?;
         }
         Ok(())
     }
+}
+
+/// The first named moving segment of the scenario and how it faces the gas (towards the
+/// box's centre), in a walled box.
+fn piston_of(session: &Session) -> Option<(String, plots::Piston)> {
+    let bounce::Boundary::Walls { min, max, .. } = session.world.config().boundary else {
+        return None;
+    };
+    let group = session
+        .scenario
+        .obstacle_groups()
+        .into_iter()
+        .find(|g| g.moving && g.name.is_some())?;
+    let bounce::Shape::Segment { a, b } = session
+        .world
+        .config()
+        .obstacles
+        .get(group.range.start)?
+        .shape
+    else {
+        return None;
+    };
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let normal = [-(b[1] - a[1]) / length, (b[0] - a[0]) / length];
+    // Towards the centre of the box (where the gas is, for a piston at one end).
+    let centre = [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0];
+    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let side = (centre[0] - mid[0]) * normal[0] + (centre[1] - mid[1]) * normal[1];
+    let towards = if side >= 0.0 {
+        normal
+    } else {
+        [-normal[0], -normal[1]]
+    };
+    Some((
+        group.name?,
+        plots::Piston {
+            length,
+            towards,
+            min,
+            max,
+        },
+    ))
 }

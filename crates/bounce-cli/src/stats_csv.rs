@@ -280,10 +280,24 @@ impl StatsCsv {
     }
 }
 
-/// One row read back: `(time, kinetic energy, momentum, potential energy)`.
-pub fn read_history(path: &Path) -> Result<Vec<crate::plots::Sample>> {
+/// The rows read back: time, kinetic energy, momentum, potential energy, and for the moving
+/// obstacle `piston` names (when given) its position and the force on it.
+pub fn read_history(path: &Path, piston: Option<&str>) -> Result<Vec<crate::plots::Sample>> {
     let mut reader =
         csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let header = reader
+        .headers()
+        .with_context(|| format!("cannot read {}", path.display()))?
+        .clone();
+    let column = |name: String| header.iter().position(|h| h == name);
+    let piston_columns = piston.and_then(|name| {
+        Some((
+            column(format!("{name}_x"))?,
+            column(format!("{name}_y"))?,
+            column(format!("force_{name}_x"))?,
+            column(format!("force_{name}_y"))?,
+        ))
+    });
     let mut out = Vec::new();
     for record in reader.records() {
         let record = record.with_context(|| format!("cannot read {}", path.display()))?;
@@ -293,6 +307,7 @@ pub fn read_history(path: &Path) -> Result<Vec<crate::plots::Sample>> {
             energy: field(2),
             momentum: [field(3), field(4)],
             potential: field(9),
+            piston: piston_columns.map(|(x, y, fx, fy)| [field(x), field(y), field(fx), field(fy)]),
         });
     }
     Ok(out)
