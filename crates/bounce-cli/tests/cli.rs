@@ -127,6 +127,55 @@ fn stats_csv_has_the_documented_columns_and_rows() {
         rows.iter().map(|r| r[6]).sum::<f64>() > 0.0,
         "some wall impulse"
     );
+    // `particles`: the 62 discs throughout.
+    assert!(rows.iter().all(|r| r[12] == 62.0));
+}
+
+#[test]
+fn a_piston_run_reports_its_force_position_and_work() {
+    let s = Scratch::new();
+    let scenario = s.path("piston.toml");
+    let (code, _, stderr) = output(bounce().args(["new", "piston", "--out"]).arg(&scenario));
+    assert_eq!(code, 0, "{stderr}");
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .args(["--steps", "2000", "--quiet", "--out"])
+            .arg(s.path("out")),
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap_or(f64::NAN))
+        .collect();
+    // 2000 steps of 0.02 at 0.05 down from y = 50.
+    assert!((last[at("piston_y")] - 48.0).abs() < 1e-9);
+    assert!(
+        last[at("force_piston_y")] > 0.0,
+        "the gas pushes the piston up"
+    );
+    // The work done equals the gain in kinetic energy (elastic everywhere).
+    let first: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap_or(f64::NAN))
+        .collect();
+    let gain = last[at("kinetic_energy")] - first[at("kinetic_energy")];
+    let work = last[at("obstacle_work")];
+    assert!(
+        gain > 0.0 && (work - gain).abs() < 0.01 * gain,
+        "work {work}, gain {gain}"
+    );
+    assert!(s.path("out/plots.png").exists());
 }
 
 #[test]
