@@ -303,3 +303,59 @@ restitution = 1.5
         );
     }
 }
+
+#[test]
+fn a_piston_under_a_weight_comes_to_rest_where_the_gas_holds_it() {
+    // A driven piston of mass 20 pushed down by a force of 40 on an elastic gas: it sinks
+    // until the gas's pressure carries it, then the mean force of the gas on it equals the
+    // weight (its mean acceleration is zero) and it stays inside the box.
+    let text = r#"
+[world]
+min = [0.0, 0.0]
+max = [30.0, 60.0]
+[time]
+dt = 0.01
+steps = 1
+substeps = 2
+[[gas]]
+count = 300
+radius = 0.5
+temperature = 2.0
+seed = 9
+region = { min = [0.0, 0.0], max = [30.0, 39.0] }
+[[obstacle]]
+segment = [[0.0, 40.0], [30.0, 40.0]]
+force = [0.0, -40.0]
+mass = 20.0
+name = "piston"
+"#;
+    let mut s = Session::from_text("weight.toml", text).unwrap();
+    // Settle, then average the gas's push over a long window.
+    for _ in 0..4_000 {
+        s.world.step(s.dt).unwrap();
+    }
+    let (mut impulse, mut time, mut heights) = (0.0, 0.0, Vec::new());
+    for _ in 0..8_000 {
+        s.world.step(s.dt).unwrap();
+        impulse += s.world.obstacle_impulses()[0][1];
+        time += s.dt;
+        let Shape::Segment { a, .. } = s.world.obstacle_shapes()[0] else {
+            panic!("a segment")
+        };
+        heights.push(a[1]);
+    }
+    let force = impulse / time;
+    assert!(
+        (force - 40.0).abs() < 0.05 * 40.0,
+        "the gas pushes with {force} against a weight of 40"
+    );
+    let (lo, hi) = heights
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &y| {
+            (l.min(y), h.max(y))
+        });
+    assert!(
+        lo > 1.0 && hi < 60.0,
+        "the piston stayed between {lo} and {hi}"
+    );
+}
