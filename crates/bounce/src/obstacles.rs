@@ -849,4 +849,42 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn generated_gases_keep_clear_of_obstacles() {
+        // A peg in the middle and a diagonal wall: neither generator puts a disc on them.
+        use crate::scene::{self, Gas, Speeds};
+        let config = Config {
+            boundary: crate::Boundary::walls([0.0, 0.0], [40.0, 40.0]),
+            obstacles: vec![
+                Obstacle::peg([20.0, 20.0], 5.0),
+                Obstacle::segment([0.0, 0.0], [40.0, 30.0]),
+            ],
+            ..Config::default()
+        };
+        let law = Law::new(&config);
+        let gas = Gas {
+            count: 300,
+            radius: [0.4, 0.6],
+            region: None,
+            speeds: Speeds::Fixed(1.0),
+            drift: [0.0, 0.0],
+            seed: 4,
+        };
+        for discs in [
+            scene::gas(&gas, &config).unwrap(),
+            scene::packed_gas(&gas, &config, &[]).unwrap(),
+        ] {
+            assert_eq!(discs.len(), 300);
+            for d in &discs {
+                for o in &config.obstacles {
+                    assert!(
+                        !touches(&o.shape, d.position, d.radius, &law),
+                        "a disc at {:?} touches {o:?}",
+                        d.position
+                    );
+                }
+            }
+        }
+    }
 }

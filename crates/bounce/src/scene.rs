@@ -203,14 +203,7 @@ pub fn gas_among(
         all.push((q.position, q.radius));
     }
     // Obstacles keep discs off them too (at their starting places).
-    let obstacles = (!config.obstacles.is_empty()).then(|| {
-        let states: Vec<ObstacleState> = config
-            .obstacles
-            .iter()
-            .map(|_| ObstacleState::default())
-            .collect();
-        Obstacles::new(config, &states, r_hi)
-    });
+    let obstacles = obstacle_grid(config, r_hi);
     // Partners reach at most this far.
     let r_far = existing.iter().map(|q| q.radius).fold(r_hi, f64::max);
     let mut placed: Vec<Particle> = Vec::with_capacity(spec.count);
@@ -293,6 +286,15 @@ pub fn gas_among(
     Ok(placed)
 }
 
+/// The obstacles of `config` at their starting places, binned for discs up to `r_max`, or
+/// `None` without obstacles.
+fn obstacle_grid(config: &Config, r_max: f64) -> Option<Obstacles> {
+    (!config.obstacles.is_empty()).then(|| {
+        let states = vec![ObstacleState::default(); config.obstacles.len()];
+        Obstacles::new(config, &states, r_max)
+    })
+}
+
 /// Draws every disc's velocity from `spec.speeds`, plus the drift.
 fn set_velocities(placed: &mut [Particle], spec: &Gas, config: &Config, rng: &mut Pcg64Mcg) {
     for p in placed {
@@ -343,57 +345,80 @@ pub fn packed_gas(
     if !(size[0] > 0.0 && size[1] > 0.0) {
         return Err(cannot(0));
     }
-    // Rows √3/2 of the column spacing apart fill a triangular lattice; an even number of rows
-    // keeps the stagger continuous across a periodic box.
-    let count = spec.count as f64;
-    let mut nx = (count * size[0] / size[1] * 3f64.sqrt() / 2.0)
-        .sqrt()
-        .ceil()
-        .max(1.0);
-    let mut ny = (count / nx).ceil().max(1.0);
-    if periodic && ny % 2.0 == 1.0 && ny > 1.0 {
-        ny += 1.0;
-        nx = (count / ny).ceil().max(1.0);
-    }
-    if nx * ny > 4.0 * count + 64.0 || !(nx * ny).is_finite() {
-        return Err(cannot(0));
-    }
-    let (nx, ny) = (nx as usize, ny as usize);
-    let spacing = [size[0] / nx as f64, size[1] / ny as f64];
-    let nearest = spacing[0].min((0.25 * spacing[0] * spacing[0] + spacing[1] * spacing[1]).sqrt());
-    if nearest <= law.interaction_diameter(r_hi) {
-        return Err(SceneError::Invalid {
-            field: "count",
-            value: spec.count.to_string(),
-            expected: "few enough for a lattice of discs this size to fit the region",
-        });
-    }
-    let mut rng = Pcg64Mcg::seed_from_u64(spec.seed);
-    let mut sites: Vec<usize> = (0..nx * ny).collect();
-    // Fisher–Yates: which sites get a disc.
-    for k in (1..sites.len()).rev() {
-        let j = (rng.random::<f64>() * (k + 1) as f64) as usize;
-        sites.swap(k, j.min(k));
-    }
+    // Obstacles take lattice sites: with them, try lattices with room to spare.
+    let obstacles = obstacle_grid(config, r_hi);
+    let headroom: &[f64] = if obstacles.is_some() {
+        &[1.0, 1.25, 1.5, 2.0, 3.0]
+    } else {
+        &[1.0]
+    };
     let min_image = geometry.min_image();
     let mut placed = Vec::with_capacity(spec.count);
-    for &site in &sites {
+    let mut rng = Pcg64Mcg::seed_from_u64(spec.seed);
+    for (attempt, &extra) in headroom.iter().enumerate() {
+        // Rows √3/2 of the column spacing apart fill a triangular lattice; an even number of
+        // rows keeps the stagger continuous across a periodic box.
+        let count = (spec.count as f64 * extra).ceil();
+        let mut nx = (count * size[0] / size[1] * 3f64.sqrt() / 2.0)
+            .sqrt()
+            .ceil()
+            .max(1.0);
+        let mut ny = (count / nx).ceil().max(1.0);
+        if periodic && ny % 2.0 == 1.0 && ny > 1.0 {
+            ny += 1.0;
+            nx = (count / ny).ceil().max(1.0);
+        }
+        if nx * ny > 4.0 * count + 64.0 || !(nx * ny).is_finite() {
+            return Err(cannot(0));
+        }
+        let (nx, ny) = (nx as usize, ny as usize);
+        let spacing = [size[0] / nx as f64, size[1] / ny as f64];
+        let nearest =
+            spacing[0].min((0.25 * spacing[0] * spacing[0] + spacing[1] * spacing[1]).sqrt());
+        if nearest <= law.interaction_diameter(r_hi) {
+            if attempt > 0 {
+                break;
+            }
+            return Err(SceneError::Invalid {
+                field: "count",
+                value: spec.count.to_string(),
+                expected: "few enough for a lattice of discs this size to fit the region",
+            });
+        }
+        rng = Pcg64Mcg::seed_from_u64(spec.seed);
+        let mut sites: Vec<usize> = (0..nx * ny).collect();
+        // Fisher–Yates: which sites get a disc.
+        for k in (1..sites.len()).rev() {
+            let j = (rng.random::<f64>() * (k + 1) as f64) as usize;
+            sites.swap(k, j.min(k));
+        }
+        placed.clear();
+        for &site in &sites {
+            if placed.len() == spec.count {
+                break;
+            }
+            let (i, j) = (site % nx, site / nx);
+            let stagger = if j % 2 == 1 { 0.5 } else { 0.0 };
+            let position = [
+                min[0] + margin + (i as f64 + 0.25 + stagger) * spacing[0],
+                min[1] + margin + (j as f64 + 0.5) * spacing[1],
+            ];
+            let r = r_lo + (r_hi - r_lo) * rng.random::<f64>();
+            // Sites on an obstacle stay empty.
+            let clear = !obstacles
+                .as_ref()
+                .is_some_and(|o| o.blocks(position, r, &law))
+                && existing.iter().all(|q| {
+                    let [dx, dy] =
+                        min_image.diff(position[0], position[1], q.position[0], q.position[1]);
+                    !law.is_colliding([dx, dy], r, q.radius)
+                });
+            if clear {
+                placed.push(Particle::new(position, [0.0, 0.0], r));
+            }
+        }
         if placed.len() == spec.count {
             break;
-        }
-        let (i, j) = (site % nx, site / nx);
-        let stagger = if j % 2 == 1 { 0.5 } else { 0.0 };
-        let position = [
-            min[0] + margin + (i as f64 + 0.25 + stagger) * spacing[0],
-            min[1] + margin + (j as f64 + 0.5) * spacing[1],
-        ];
-        let r = r_lo + (r_hi - r_lo) * rng.random::<f64>();
-        let clear = existing.iter().all(|q| {
-            let [dx, dy] = min_image.diff(position[0], position[1], q.position[0], q.position[1]);
-            !law.is_colliding([dx, dy], r, q.radius)
-        });
-        if clear {
-            placed.push(Particle::new(position, [0.0, 0.0], r));
         }
     }
     if placed.len() < spec.count {
