@@ -696,8 +696,14 @@ fn uncross(shape: &Shape, from: [f64; 2], position: &mut [f64; 2], reach: f64) {
 }
 
 /// Advances the moving obstacles by one substep `h`: a prescribed velocity moves them, a
-/// driven one is accelerated by its force first (semi-implicit Euler, like the discs).
+/// driven one is accelerated by its force first (semi-implicit Euler, like the discs). In a
+/// walled box the walls stop them: a moving obstacle that would cross one stays against it,
+/// its velocity into the wall set to zero (a piston stops at the bottom of its cylinder).
 pub(crate) fn advance(config: &Config, states: &mut [ObstacleState], h: f64) {
+    let walls = match config.boundary {
+        crate::Boundary::Walls { min, max, .. } => Some((min, max)),
+        _ => None,
+    };
     for (o, s) in config.obstacles.iter().zip(states.iter_mut()) {
         match o.motion {
             Motion::Fixed => continue,
@@ -709,6 +715,37 @@ pub(crate) fn advance(config: &Config, states: &mut [ObstacleState], h: f64) {
         }
         s.offset[0] += s.velocity[0] * h;
         s.offset[1] += s.velocity[1] * h;
+        let Some((min, max)) = walls else {
+            continue;
+        };
+        let [lo, hi] = extent(&o.shifted(s.offset));
+        for axis in 0..2 {
+            // Only a shape that fits between the walls can be held by them.
+            if hi[axis] - lo[axis] > max[axis] - min[axis] {
+                continue;
+            }
+            if lo[axis] < min[axis] {
+                s.offset[axis] += min[axis] - lo[axis];
+                s.velocity[axis] = s.velocity[axis].max(0.0);
+            } else if hi[axis] > max[axis] {
+                s.offset[axis] -= hi[axis] - max[axis];
+                s.velocity[axis] = s.velocity[axis].min(0.0);
+            }
+        }
+    }
+}
+
+/// The box a shape occupies.
+fn extent(shape: &Shape) -> [[f64; 2]; 2] {
+    match *shape {
+        Shape::Segment { a, b } => [
+            [a[0].min(b[0]), a[1].min(b[1])],
+            [a[0].max(b[0]), a[1].max(b[1])],
+        ],
+        Shape::Peg { centre, radius } => [
+            [centre[0] - radius, centre[1] - radius],
+            [centre[0] + radius, centre[1] + radius],
+        ],
     }
 }
 
@@ -886,5 +923,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn walls_stop_a_moving_obstacle() {
+        // A piston driven down hard in an empty 10 × 10 box stops on the floor; one moving
+        // sideways at a prescribed speed stops at the right wall.
+        let config = Config {
+            boundary: crate::Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+            obstacles: vec![
+                Obstacle::segment([0.0, 5.0], [10.0, 5.0]).moving(Motion::Driven {
+                    force: [0.0, -100.0],
+                    mass: 1.0,
+                    velocity: [0.0, 0.0],
+                }),
+                Obstacle::peg([2.0, 2.0], 1.0).moving(Motion::Velocity([3.0, 0.0])),
+            ],
+            ..Config::default()
+        };
+        let mut states = vec![ObstacleState::default(); 2];
+        for _ in 0..1000 {
+            advance(&config, &mut states, 0.01);
+        }
+        assert_eq!(states[0].offset[1], -5.0);
+        assert_eq!(states[0].velocity[1], 0.0);
+        assert_eq!(states[1].offset[0], 7.0);
+        assert_eq!(states[1].velocity[0], 0.0);
     }
 }
