@@ -176,6 +176,40 @@ fn tick(v: &f64) -> String {
 
 type Line<'a> = (&'a str, &'a dyn Fn(&Sample) -> f64, &'a RGBColor);
 
+/// A captioned chart over `x` and `y` with its mesh and labelled axes drawn.
+fn xy_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    caption: &str,
+    (x, x_desc): (std::ops::Range<f64>, &str),
+    (y, y_desc): (std::ops::Range<f64>, &str),
+) -> Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(84)
+        .build_cartesian_2d(x, y)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_labels(6)
+        .y_labels(6)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(chart)
+}
+
 /// The pressure on a piston (the force into it over its length, mean over each row's
 /// steps) against the area the gas has, with the ideal gas's adiabat through the first
 /// measured point (2D: `P A^2` constant, γ = 2) for comparison.
@@ -214,24 +248,12 @@ fn pressure_area<DB: DrawingBackend>(
         .collect();
     let (a_lo, a_hi) = axis_range(points.iter().map(|p| p.0));
     let (p_lo, p_hi) = axis_range(points.iter().map(|p| p.1));
-    let mut chart = ChartBuilder::on(area)
-        .caption("pressure on the piston against area", ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(36)
-        .y_label_area_size(84)
-        .build_cartesian_2d(a_lo..a_hi, p_lo..p_hi)
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("area")
-        .y_desc("pressure")
-        .x_labels(6)
-        .y_labels(6)
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
-        .label_style(("sans-serif", 13))
-        .draw()
-        .map_err(plot_err)?;
+    let mut chart = xy_chart(
+        area,
+        "pressure on the piston against area",
+        (a_lo..a_hi, "area"),
+        (p_lo..p_hi, "pressure"),
+    )?;
     chart
         .draw_series(
             points
@@ -282,24 +304,12 @@ fn series<DB: DrawingBackend>(
             .iter()
             .flat_map(|(_, value, _)| history.iter().map(value)),
     );
-    let mut chart = ChartBuilder::on(area)
-        .caption(format!("{label} over time"), ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(36)
-        .y_label_area_size(84)
-        .build_cartesian_2d(t_start..t_end, lo..hi)
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("time")
-        .y_desc(label)
-        .x_labels(6)
-        .y_labels(6)
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
-        .label_style(("sans-serif", 13))
-        .draw()
-        .map_err(plot_err)?;
+    let mut chart = xy_chart(
+        area,
+        &format!("{label} over time"),
+        (t_start..t_end, "time"),
+        (lo..hi, label),
+    )?;
     for &(name, value, colour) in lines {
         chart
             .draw_series(LineSeries::new(

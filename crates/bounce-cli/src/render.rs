@@ -124,14 +124,8 @@ impl Painter {
                 if let Some(rect) = Rect::from_xywh(x.floor(), y.floor(), 1.0, 1.0) {
                     pixmap.fill_rect(rect, &paint, Transform::identity(), None);
                 }
-            } else if let Some(path) = PathBuilder::from_circle(x, y, r) {
-                pixmap.fill_path(
-                    &path,
-                    &paint,
-                    FillRule::Winding,
-                    Transform::identity(),
-                    None,
-                );
+            } else {
+                fill_circle(&mut pixmap, x, y, r, &paint);
             }
         }
         pixmap
@@ -170,19 +164,17 @@ impl Painter {
                 }
                 Shape::Peg { centre, radius } => {
                     let (x, y) = self.to_pixel(centre[0], centre[1]);
-                    let r = ((radius * scale) as f32).max(0.75);
-                    if let Some(path) = PathBuilder::from_circle(x, y, r) {
-                        pixmap.fill_path(
-                            &path,
-                            &paint,
-                            FillRule::Winding,
-                            Transform::identity(),
-                            None,
-                        );
-                    }
+                    fill_circle(pixmap, x, y, ((radius * scale) as f32).max(0.75), &paint);
                 }
             }
         }
+    }
+}
+
+/// A filled circle of radius `r` pixels at `(x, y)`.
+fn fill_circle(pixmap: &mut Pixmap, x: f32, y: f32, r: f32, paint: &Paint) {
+    if let Some(path) = PathBuilder::from_circle(x, y, r) {
+        pixmap.fill_path(&path, paint, FillRule::Winding, Transform::identity(), None);
     }
 }
 

@@ -727,6 +727,34 @@ impl Scenario {
             || self.disc.iter().any(|g| g.get_ref().color.is_some())
     }
 
+    /// For a config problem of an obstacle, emitter or sink (`WHAT K: ...`, K its index in
+    /// the config's list): the table's index, its kind and its line.
+    fn table_of(
+        &self,
+        e: &bounce::ConfigError,
+        source: &str,
+    ) -> Option<(usize, &'static str, Option<usize>)> {
+        let k: usize = e
+            .value
+            .split_once(": ")?
+            .0
+            .split(' ')
+            .nth(1)?
+            .parse()
+            .ok()?;
+        let (table, what, span) = match e.field {
+            "obstacles" => {
+                let groups = self.obstacle_groups();
+                let t = groups.iter().position(|g| g.range.contains(&k))?;
+                (t, "obstacle", self.obstacle[t].span())
+            }
+            "emitters" => (k, "emitter", self.emitter.get(k)?.span()),
+            "sinks" => (k, "sink", self.sink.get(k)?.span()),
+            _ => return None,
+        };
+        Some((table, what, Some(line_at(source, span.start))))
+    }
+
     /// Every problem that can be found without placing particles.
     fn problems(&self, source: &str) -> Vec<Problem> {
         let mut out = Vec::new();
@@ -759,37 +787,12 @@ impl Scenario {
             );
         }
         for e in self.config().problems() {
-            if e.field == "emitters" || e.field == "sinks" {
-                // `emitter K: VALUE`: point at the K-th table.
-                let (what, rest) = e.value.split_once(' ').unwrap_or(("", ""));
-                let (k, value) = rest.split_once(": ").unwrap_or(("", rest));
-                let k: usize = k.parse().unwrap_or(0);
-                let span = if e.field == "emitters" {
-                    self.emitter.get(k).map(|t| t.span().start)
-                } else {
-                    self.sink.get(k).map(|t| t.span().start)
-                };
-                at(
-                    span.map(|start| line_at(source, start)),
-                    format!("{what} #{}: {value}: {}", k + 1, e.expected),
-                );
-                continue;
-            }
-            if e.field == "obstacles" {
-                // `obstacle K: FIELD VALUE`: point at the K-th table.
-                let k = e.value.trim_start_matches("obstacle ").split(':').next();
-                let k: Option<usize> = k.and_then(|k| k.parse().ok());
-                let groups = self.obstacle_groups();
-                let table = k.and_then(|k| groups.iter().position(|g| g.range.contains(&k)));
-                let line = table.map(|t| line_at(source, self.obstacle[t].span().start));
+            if let Some((table, what, line)) = self.table_of(&e, source) {
+                // `WHAT K: VALUE`, K the index in the config's list: name the table.
+                let value = e.value.split_once(": ").map_or(&*e.value, |(_, v)| v);
                 at(
                     line,
-                    format!(
-                        "obstacle #{}: {}: {}",
-                        table.map_or(0, |t| t + 1),
-                        e.value.split_once(": ").map_or(&*e.value, |(_, v)| v),
-                        e.expected
-                    ),
+                    format!("{what} #{}: {value}: {}", table + 1, e.expected),
                 );
                 continue;
             }

@@ -18,7 +18,7 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::integrate::integrate;
 use crate::law::Law;
-use crate::obstacles::{self, Impacts, ObstacleState, Obstacles, Shape, Trail};
+use crate::obstacles::{self, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
@@ -313,7 +313,10 @@ impl World {
         // Segments can be crossed: discs are followed from where they were last on the
         // right side. Pegs have an inside, and need no trail.
         let follow = obstacles.needs_trail();
-        let mut obstacle_impulses = vec![[0.0; 2]; self.config.obstacles.len()];
+        let mut met = Met {
+            impulses: vec![[0.0; 2]; self.config.obstacles.len()],
+            work: 0.0,
+        };
         'substeps: for _ in 0..substeps {
             if has_obstacles {
                 obstacles::advance(&self.config, &mut self.obstacle_states, h);
@@ -327,19 +330,14 @@ impl World {
             stats.wall_impulse.add(&moved.impulse);
             if follow {
                 // Discs that flew through a segment in this substep go back.
-                let impacts = obstacles::resolve_obstacles(
+                meet_obstacles(
                     &mut self.particles,
                     Some(&mut self.trail),
                     obstacles,
-                    &self.obstacle_states,
-                    &ctx,
-                );
-                absorb(
-                    impacts,
-                    &self.config,
-                    &mut stats,
                     &mut self.obstacle_states,
-                    &mut obstacle_impulses,
+                    &self.config,
+                    &ctx,
+                    &mut met,
                 );
             }
             profile.integrate += clock.lap();
@@ -374,19 +372,14 @@ impl World {
                 profile.pairs += clock.lap();
                 virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
                 if has_obstacles {
-                    let impacts = obstacles::resolve_obstacles(
+                    meet_obstacles(
                         &mut self.particles,
                         follow.then_some(&mut self.trail),
                         obstacles,
-                        &self.obstacle_states,
-                        &ctx,
-                    );
-                    absorb(
-                        impacts,
-                        &self.config,
-                        &mut stats,
                         &mut self.obstacle_states,
-                        &mut obstacle_impulses,
+                        &self.config,
+                        &ctx,
+                        &mut met,
                     );
                 }
                 if self.config.solver_iterations > 1 {
@@ -429,7 +422,8 @@ impl World {
         self.measured = measured;
         profile.measure += clock.lap();
         self.stats = stats;
-        self.obstacle_impulses = obstacle_impulses;
+        stats.obstacle_work = met.work;
+        self.obstacle_impulses = met.impulses;
         self.obstacle_work += stats.obstacle_work;
         self.profile = profile;
         self.time += dt;
@@ -887,20 +881,31 @@ fn initial_states(config: &Config) -> Vec<ObstacleState> {
         .collect()
 }
 
-/// Takes in one pass's obstacle collisions: the work of the moving ones, the momentum each
-/// received, and a driven one's change of velocity (it takes the discs' momentum at once).
-fn absorb(
-    impacts: Impacts,
-    config: &Config,
-    stats: &mut StepStats,
+/// What the obstacles met in a step: the momentum each received, and the work of the
+/// moving ones on the discs.
+struct Met {
+    impulses: Vec<[f64; 2]>,
+    work: f64,
+}
+
+/// One obstacle pass (`obstacles::resolve_obstacles`) and its bookkeeping: the momentum
+/// each obstacle received and the work of moving ones go into `met`, and a driven obstacle
+/// takes the discs' momentum into its velocity at once.
+fn meet_obstacles(
+    p: &mut Particles,
+    trail: Option<&mut Trail>,
+    obstacles: &Obstacles,
     states: &mut [ObstacleState],
-    impulses: &mut [[f64; 2]],
+    config: &Config,
+    ctx: &StepContext,
+    met: &mut Met,
 ) {
-    stats.obstacle_work += impacts.work;
+    let impacts = obstacles::resolve_obstacles(p, trail, obstacles, states, ctx);
+    met.work += impacts.work;
     for (k, j) in impacts.list {
         let k = k as usize;
-        impulses[k][0] += j[0];
-        impulses[k][1] += j[1];
+        met.impulses[k][0] += j[0];
+        met.impulses[k][1] += j[1];
         if let crate::Motion::Driven { mass, .. } = config.obstacles[k].motion {
             states[k].velocity[0] += j[0] / mass;
             states[k].velocity[1] += j[1] / mass;
