@@ -187,12 +187,48 @@ fn mutated_checkpoints_never_panic_or_allocate_wildly() {
     for _ in 0..3 {
         session.step().unwrap();
     }
-    let bytes = checkpoint::encode(&session.world, None).unwrap();
+    let plain = checkpoint::encode(&session.world, None).unwrap();
+    // And a world with every kind of state: a moving piston, pegs, an emitter, a sink.
+    let text = r#"
+[world]
+min = [0.0, 0.0]
+max = [20.0, 20.0]
+gravity = [0.0, -1.0]
+[time]
+dt = 0.02
+steps = 1
+[[gas]]
+count = 20
+radius = 0.4
+speed = 1.0
+[[obstacle]]
+segment = [[0.0, 15.0], [20.0, 15.0]]
+force = [0.0, -5.0]
+mass = 3.0
+[[obstacle]]
+pegs = { origin = [3.0, 3.0], rows = 2, columns = 4, spacing = [4.0, 4.0] }
+radius = 0.5
+[[emitter]]
+region = { min = [1.0, 10.0], max = [19.0, 14.0] }
+rate = 30.0
+radius = 0.3
+[[sink]]
+region = { min = [0.0, 0.0], max = [20.0, 1.0] }
+"#;
+    let mut worlds = Session::from_text("works", text).unwrap();
+    for _ in 0..40 {
+        worlds.step().unwrap();
+    }
+    let works = checkpoint::encode(&worlds.world, None).unwrap();
     const HEADER: usize = 18 + 4 + 8 + 8 + 8;
     let mut rng = Rng(7);
     let (mut loaded, mut refused) = (0, 0);
-    for case in 0..3000 {
-        let mut bad = bytes.clone();
+    for case in 0..4000 {
+        let mut bad = if case % 2 == 0 {
+            plain.clone()
+        } else {
+            works.clone()
+        };
         for _ in 0..1 + rng.below(4) {
             // Mutations past the header need a byte past it (a truncation may leave none).
             if bad.len() <= HEADER {
