@@ -46,3 +46,16 @@ def test_the_overhead_measurement_runs(tmp_path):
     assert done.returncode == 0, done.stdout + done.stderr
     row = done.stdout.strip().splitlines()[-1].split("|")
     assert row[0].strip() == "1000" and len(row) == 6
+
+
+def test_the_galton_board_built_in_python_fills_its_bins_around_the_axis(tmp_path):
+    run("galton.py", tmp_path)
+    result = json.loads((tmp_path / "galton.json").read_text())
+    n = sum(result["counts"])
+    assert n == 300 and result["landed"] == 300  # every ball emitted reached the bins
+    # Symmetric about the funnel's axis within three standard errors.
+    assert abs(result["mean"] - result["axis"]) < 3 * result["sd"] / n**0.5
+    # A bell: the middle bins hold more than the outer ones.
+    counts = result["counts"]
+    assert sum(counts[7:13]) > 2 * (sum(counts[:4]) + sum(counts[-4:]))
+    assert (tmp_path / "galton.png").stat().st_size > 10_000
