@@ -131,6 +131,10 @@ rate = -3.0
 radius = 0.5
 [[sink]]
 region = { min = [5.0, 5.0], max = [5.0, 6.0] }
+[[emitter]]
+region = { min = [8.0, 8.0], max = [12.0, 9.0] }
+rate = 1.0
+radius = 0.5
 "#;
     let error = Session::from_text("bad.toml", text)
         .unwrap_err()
@@ -139,6 +143,7 @@ region = { min = [5.0, 5.0], max = [5.0, 6.0] }
         "bad.toml:8: emitter #1: min [1.0, 1.0], max [0.0, 2.0]: the region must be finite with min below max",
         "bad.toml:12: emitter #2: rate -3: must be finite and >= 0",
         "bad.toml:16: sink #1: min [5.0, 5.0], max [5.0, 6.0]: the region must be finite",
+        "bad.toml:18: emitter #3: min [8.0, 8.0], max [12.0, 9.0]: the region must lie inside the box",
     ] {
         assert!(
             error.contains(expected),

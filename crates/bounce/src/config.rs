@@ -318,6 +318,17 @@ impl Config {
         for (k, emitter) in self.emitters.iter().enumerate() {
             if let Some((value, expected)) = emitter.problem() {
                 err("emitters", format!("emitter {k}: {value}"), expected);
+            } else if let Some((min, max)) = self.boundary.bounds()
+                && !(emitter.min[0] >= min[0]
+                    && emitter.min[1] >= min[1]
+                    && emitter.max[0] <= max[0]
+                    && emitter.max[1] <= max[1])
+            {
+                err(
+                    "emitters",
+                    format!("emitter {k}: min {:?}, max {:?}", emitter.min, emitter.max),
+                    "the region must lie inside the box",
+                );
             }
         }
         for (k, sink) in self.sinks.iter().enumerate() {
