@@ -97,6 +97,7 @@ try {
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
     result.galton_300 = await page.evaluate(() => window.bounceFallback.runTo("galton-board", 300));
+    result.effusion_regions = await page.evaluate(() => window.bounceFallback.regions("effusion"));
   }
   if (mode === "webgl" || mode === "fallback") {
     result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));

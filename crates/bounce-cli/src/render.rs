@@ -104,6 +104,7 @@ impl Painter {
                 );
             }
         }
+        self.paint_regions(world, &mut pixmap);
         self.paint_obstacles(world, &mut pixmap, scale);
         let p = world.particles();
         let mut paint = Paint {
@@ -132,7 +133,37 @@ impl Painter {
     }
 }
 
+/// Emitter regions are outlined in this colour, sinks in [`SINK`].
+const EMITTER: Rgb = [90, 170, 110];
+const SINK: Rgb = [190, 90, 90];
+
 impl Painter {
+    /// The outlines of the emitters' and the sinks' regions.
+    fn paint_regions(&self, world: &World, pixmap: &mut Pixmap) {
+        let config = world.config();
+        let regions = config
+            .emitters
+            .iter()
+            .map(|e| (e.min, e.max, EMITTER))
+            .chain(config.sinks.iter().map(|s| (s.min, s.max, SINK)));
+        let mut paint = Paint::default();
+        for (min, max, colour) in regions {
+            let (x0, y0) = self.to_pixel(min[0], max[1]);
+            let (x1, y1) = self.to_pixel(max[0], min[1]);
+            if let Some(rect) = Rect::from_ltrb(x0, y0, x1, y1) {
+                paint.set_color(rgb(colour));
+                let path = PathBuilder::from_rect(rect);
+                pixmap.stroke_path(
+                    &path,
+                    &paint,
+                    &Stroke::default(),
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+    }
+
     /// Segments as lines (at least 1.5 pixels wide), pegs as discs to scale.
     fn paint_obstacles(&self, world: &World, pixmap: &mut Pixmap, scale: f64) {
         let mut paint = Paint {

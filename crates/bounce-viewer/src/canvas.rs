@@ -117,6 +117,25 @@ impl Raster {
                 self.put(x1, y, BOX_EDGE);
             }
         }
+        // Emitter regions outlined in green, sinks in red.
+        let config = world.config();
+        let regions = config
+            .emitters
+            .iter()
+            .map(|e| (e.min, e.max, [90, 170, 110]))
+            .chain(config.sinks.iter().map(|s| (s.min, s.max, [190, 90, 90])));
+        for (min, max, colour) in regions {
+            let corners = [
+                [min[0], min[1]],
+                [max[0], min[1]],
+                [max[0], max[1]],
+                [min[0], max[1]],
+            ]
+            .map(|c| view.to_pixel(c, w, h));
+            for k in 0..4 {
+                self.line(corners[k], corners[(k + 1) % 4], colour);
+            }
+        }
         for (k, shape) in world.obstacle_shapes().iter().enumerate() {
             let colour = obstacle_colours
                 .get(k)
@@ -243,5 +262,39 @@ mod tests {
         assert_eq!(at(58, 50), &[255, 0, 0]);
         assert_eq!(at(62, 50), &BACKGROUND);
         assert_eq!(at(150, 20), &BACKGROUND);
+    }
+
+    #[test]
+    fn emitter_and_sink_regions_are_outlined() {
+        let world = World::new(Config {
+            boundary: Boundary::walls([0.0, 0.0], [20.0, 10.0]),
+            emitters: vec![bounce::Emitter::new([2.0, 2.0], [6.0, 8.0], 0.3)],
+            sinks: vec![bounce::Sink {
+                min: [14.0, 2.0],
+                max: [18.0, 8.0],
+            }],
+            ..Config::default()
+        })
+        .unwrap();
+        let view = View {
+            centre: [10.0, 5.0],
+            scale: 10.0,
+        };
+        let palette = Palette {
+            colour_by: ColorBy::Speed,
+            colours: Vec::new(),
+            speed_scale: 1.0,
+            radius_range: [1.0, 1.0],
+        };
+        let mut raster = Raster::new(200, 100);
+        raster.draw(&world, &view, &palette, &[]);
+        let at = |p: [f64; 2]| {
+            let [x, y] = view.to_pixel(p, 200, 100);
+            let k = (y as usize * 200 + x as usize) * 4;
+            [raster.pixels[k], raster.pixels[k + 1], raster.pixels[k + 2]]
+        };
+        assert_eq!(at([2.0, 5.0]), [90, 170, 110], "the emitter's left edge");
+        assert_eq!(at([16.0, 2.0]), [190, 90, 90], "the sink's bottom edge");
+        assert_eq!(at([16.0, 5.0]), BACKGROUND, "inside the sink");
     }
 }

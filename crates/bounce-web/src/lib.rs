@@ -172,6 +172,18 @@ impl Simulation {
             .collect()
     }
 
+    /// `[kind, min_x, min_y, max_x, max_y, ...]` of the emitters' (kind 0) and the sinks'
+    /// (kind 1) regions, which the page outlines.
+    pub fn regions(&self) -> Vec<f64> {
+        let config = self.session.world.config();
+        let emitters = config.emitters.iter().map(|e| (0.0, e.min, e.max));
+        let sinks = config.sinks.iter().map(|s| (1.0, s.min, s.max));
+        emitters
+            .chain(sinks)
+            .flat_map(|(kind, min, max)| [kind, min[0], min[1], max[0], max[1]])
+            .collect()
+    }
+
     /// `[min_x, min_y, max_x, max_y]`: the region the session shows.
     pub fn bounds(&self) -> Vec<f64> {
         let (min, max) = self.session.view;

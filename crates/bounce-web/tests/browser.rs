@@ -191,6 +191,12 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
     let result = drive(&server, "fallback", &shot);
     check_run(&result);
     assert!(result["galton_300"].is_string(), "{result}");
+    // The effusion scenario's sink (kind 1), which the page outlines.
+    assert_eq!(
+        result["effusion_regions"],
+        serde_json::json!([1, 70, 0, 80, 40]),
+        "{result}"
+    );
     let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
     assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
 }
