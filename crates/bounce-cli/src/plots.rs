@@ -10,6 +10,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use bounce::World;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Where TrueType fonts are looked for (Debian's fonts-dejavu-core first).
@@ -176,19 +177,27 @@ fn tick(v: &f64) -> String {
 
 type Line<'a> = (&'a str, &'a dyn Fn(&Sample) -> f64, &'a RGBColor);
 
+/// The chart's legend, boxed, in the top right.
+fn legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    size: u32,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", size))
+        .draw()
+        .map_err(plot_err)
+}
+
 /// A captioned chart over `x` and `y` with its mesh and labelled axes drawn.
 fn xy_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, plotters::coord::Shift>,
     caption: &str,
     (x, x_desc): (std::ops::Range<f64>, &str),
     (y, y_desc): (std::ops::Range<f64>, &str),
-) -> Result<
-    ChartContext<
-        'a,
-        DB,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-> {
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>> {
     let mut chart = ChartBuilder::on(area)
         .caption(caption, ("sans-serif", 18))
         .margin(12)
@@ -278,13 +287,7 @@ fn pressure_area<DB: DrawingBackend>(
             .label("ideal gas adiabat P A² = const")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], BLACK.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()
-        .map_err(plot_err)?;
+    legend(&mut chart, 13)?;
     Ok(())
 }
 
@@ -326,13 +329,7 @@ fn series<DB: DrawingBackend>(
             });
     }
     if lines.len() > 1 {
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(plot_err)?;
+        legend(&mut chart, 13)?;
     }
     Ok(())
 }
@@ -406,12 +403,6 @@ fn histogram<DB: DrawingBackend>(
             .label("2D Maxwell–Boltzmann")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], RED.stroke_width(3)));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(plot_err)?;
+    legend(&mut chart, 14)?;
     Ok(())
 }

@@ -343,10 +343,7 @@ impl Grid {
             return Grid::default();
         }
         // Each obstacle's reach for the largest disc, and the box of all of them.
-        let reach = |s: &Shape| match *s {
-            Shape::Segment { .. } => law.reach(max_radius),
-            Shape::Peg { radius, .. } => law.reach(max_radius + radius),
-        };
+        let reach = |s: &Shape| reach_of(s, max_radius, law);
         let bounds = |s: &Shape| -> [[f64; 2]; 2] {
             let d = reach(s);
             match *s {

@@ -80,14 +80,8 @@ impl Emitter {
     pub(crate) fn problem(&self) -> Option<(String, &'static str)> {
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let [r0, r1] = self.radius;
-        let region_ok = finite(&[self.min[0], self.min[1], self.max[0], self.max[1]])
-            && self.min[0] < self.max[0]
-            && self.min[1] < self.max[1];
-        if !region_ok {
-            Some((
-                format!("min {:?}, max {:?}", self.min, self.max),
-                "the region must be finite with min below max",
-            ))
+        if let Some(problem) = region_problem(self.min, self.max) {
+            Some(problem)
         } else if !(self.rate.is_finite() && self.rate >= 0.0) {
             Some((format!("rate {}", self.rate), "must be finite and >= 0"))
         } else if !(r0.is_finite() && r0 > 0.0 && r1.is_finite() && r1 >= r0) {
@@ -149,18 +143,19 @@ impl Sink {
     }
 
     pub(crate) fn problem(&self) -> Option<(String, &'static str)> {
-        let ok = [self.min[0], self.min[1], self.max[0], self.max[1]]
-            .iter()
-            .all(|v| v.is_finite())
-            && self.min[0] < self.max[0]
-            && self.min[1] < self.max[1];
-        (!ok).then(|| {
-            (
-                format!("min {:?}, max {:?}", self.min, self.max),
-                "the region must be finite with min below max",
-            )
-        })
+        region_problem(self.min, self.max)
     }
+}
+
+/// What is wrong with the rectangle `[min, max]` of an emitter or a sink, if anything.
+fn region_problem(min: [f64; 2], max: [f64; 2]) -> Option<(String, &'static str)> {
+    let ok = min.iter().chain(&max).all(|v| v.is_finite()) && min[0] < max[0] && min[1] < max[1];
+    (!ok).then(|| {
+        (
+            format!("min {min:?}, max {max:?}"),
+            "the region must be finite with min below max",
+        )
+    })
 }
 
 /// How far an emitter has got: part of the world's saved state.

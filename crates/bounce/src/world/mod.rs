@@ -449,16 +449,15 @@ impl World {
             return 0;
         }
         let law = Law::new(&self.config);
-        let shapes = self.obstacle_shapes();
+        // The obstacles' grid covers the emitters' discs too (see `prepare_obstacles`).
+        self.prepare_obstacles();
         let mut added = 0;
         for k in 0..self.config.emitters.len() {
             let emitter = self.config.emitters[k];
-            let config = &self.config;
+            let (config, obstacles) = (&self.config, self.obstacles.as_ref());
             let blocked = |disc: &Particle| {
                 disc.validate(config).is_err()
-                    || shapes
-                        .iter()
-                        .any(|s| obstacles::touches(s, disc.position, disc.radius, &law))
+                    || obstacles.is_some_and(|o| o.blocks(disc.position, disc.radius, &law))
             };
             let discs = sources::emit(
                 &emitter,
@@ -550,7 +549,15 @@ impl World {
     /// Builds the obstacles' grid when the configuration or the discs changed.
     fn prepare_obstacles(&mut self) {
         if self.obstacles.is_none() {
-            let max_radius = self.particles.radius.iter().copied().fold(0.0, f64::max);
+            // The discs there are and those the emitters will add.
+            let emitted = self.config.emitters.iter().map(|e| e.radius[1]);
+            let max_radius = self
+                .particles
+                .radius
+                .iter()
+                .copied()
+                .chain(emitted)
+                .fold(0.0, f64::max);
             self.obstacle_radius = max_radius;
             self.obstacles = Some(Obstacles::new(
                 &self.config,
