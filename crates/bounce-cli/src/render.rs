@@ -111,7 +111,8 @@ impl Painter {
             anti_alias: true,
             ..Paint::default()
         };
-        for i in 0..p.len() {
+        // In id order: overlapping discs are drawn the same way whatever the storage order.
+        for (_, i) in world.in_id_order() {
             let (x, y) = self.to_pixel(p.x()[i], p.y()[i]);
             let r = (p.radius()[i] * scale) as f32;
             let speed = p.vx()[i].hypot(p.vy()[i]);

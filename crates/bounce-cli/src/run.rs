@@ -185,7 +185,8 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
 
 /// Kinetic plus potential energy (the potential is zero without gravity).
 fn mechanical_energy(world: &World) -> f64 {
-    world.stats().kinetic_energy + bounce_scenario::analysis::potential_energy(world)
+    bounce_scenario::analysis::motion_sums(world).0
+        + bounce_scenario::analysis::potential_energy(world)
 }
 
 /// The step after `step` overflowed: the outputs up to `step`, the last finite one, are kept

@@ -246,20 +246,26 @@ impl StatsCsv {
             self.total_mass = bounce_scenario::analysis::total_mass(world);
         }
         let temperature = bounce_scenario::analysis::temperature(world, self.total_mass);
+        // Summed in id order, so a resumed or distributed run writes the same bits.
+        let (energy, momentum) = bounce_scenario::analysis::motion_sums(world);
+        // (None before the first step, which has no virial.)
+        let pressure = s
+            .pressure
+            .and_then(|_| world.pressure(energy, momentum, s.virial));
         let t = &self.totals.row;
         let extra = self.obstacles.values(world, t);
         let mut record = vec![
             world.step_count().to_string(),
             world.time().to_string(),
-            s.kinetic_energy.to_string(),
-            s.momentum[0].to_string(),
-            s.momentum[1].to_string(),
+            energy.to_string(),
+            momentum[0].to_string(),
+            momentum[1].to_string(),
             t.collisions.to_string(),
             t.wall_impulse.to_string(),
             t.max_overlap.to_string(),
             temperature.to_string(),
             bounce_scenario::analysis::potential_energy(world).to_string(),
-            s.pressure.map_or_else(String::new, |p| p.to_string()),
+            pressure.map_or_else(String::new, |p| p.to_string()),
             s.substeps.to_string(),
             world.len().to_string(),
         ];

@@ -26,18 +26,36 @@ pub fn total_mass(world: &World) -> f64 {
 }
 
 /// The potential energy in the uniform gravity field, `−Σ m g·x` (zero at the origin), with
-/// the world's mass model. Zero without gravity.
+/// the world's mass model, summed in id order. Zero without gravity.
 pub fn potential_energy(world: &World) -> f64 {
     let g = world.config().gravity;
     if g == [0.0, 0.0] {
         return 0.0;
     }
     let p = world.particles();
-    masses(world)
+    let m = masses(world);
+    world
+        .in_id_order()
         .iter()
-        .zip(p.x().iter().zip(p.y()))
-        .map(|(m, (x, y))| -m * (g[0] * x + g[1] * y))
+        .map(|&(_, i)| -m[i] * (g[0] * p.x()[i] + g[1] * p.y()[i]))
         .sum()
+}
+
+/// The kinetic energy `Σ ½ m v²` and momentum `Σ m v` with the world's mass model, summed in
+/// id order: what files report, the same bits whatever the storage order (a resumed run's,
+/// or a distributed run's whole assembled from its ranks). The world's own
+/// [`bounce::StepStats`] sums in storage order, which is faster.
+pub fn motion_sums(world: &World) -> (f64, [f64; 2]) {
+    let p = world.particles();
+    let m = masses(world);
+    let (mut energy, mut momentum) = (0.0, [0.0, 0.0]);
+    for (_, i) in world.in_id_order() {
+        let (vx, vy) = (p.vx()[i], p.vy()[i]);
+        energy += 0.5 * m[i] * (vx * vx + vy * vy);
+        momentum[0] += m[i] * vx;
+        momentum[1] += m[i] * vy;
+    }
+    (energy, momentum)
 }
 
 /// `kT` from the kinetic energy in the centre-of-mass frame: in 2D each disc carries `kT`.
@@ -47,9 +65,9 @@ pub fn temperature(world: &World, total_mass: f64) -> f64 {
     if n == 0 || total_mass <= 0.0 {
         return 0.0;
     }
-    let s = world.stats();
-    let drift_energy = (s.momentum[0].powi(2) + s.momentum[1].powi(2)) / (2.0 * total_mass);
-    ((s.kinetic_energy - drift_energy) / n as f64).max(0.0)
+    let (energy, momentum) = motion_sums(world);
+    let drift_energy = (momentum[0].powi(2) + momentum[1].powi(2)) / (2.0 * total_mass);
+    ((energy - drift_energy) / n as f64).max(0.0)
 }
 
 /// The speed distribution now, and what theory expects at the measured temperature.

@@ -329,7 +329,7 @@ impl GsdWriter {
         let (rows, width) = self.types.clone();
         let count = rows.len() as u64 / width as u64;
         self.chunk("particles/types", Type::I8, count, width, &rows)?;
-        let energy = world.stats().kinetic_energy;
+        let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
         self.frame += 1;
         Ok(())

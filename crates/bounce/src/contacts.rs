@@ -25,6 +25,7 @@ use crate::broadphase::{Broadphase, Pair, floor_to_isize};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, OrderAxisFrame};
 use crate::law::Law;
+use crate::part::Tally;
 use crate::particles::{ParticleId, Particles, ordered};
 
 /// Order-grid cells are this much wider than the largest collision distance.
@@ -127,7 +128,8 @@ impl Contacts {
         p: &Particles,
         ctx: &StepContext,
     ) -> Detection {
-        let grid = OrderGrid::new(&ctx.geometry, &ctx.law, broadphase.max_radius());
+        let radius = broadphase.max_radius().max(ctx.order_radius);
+        let grid = OrderGrid::new(&ctx.geometry, &ctx.law, radius);
         let law = ctx.law;
         let min_image = ctx.geometry.min_image();
         let candidates = &broadphase.candidates;
@@ -197,6 +199,26 @@ impl Contacts {
                 .map(|(overlap, _)| *overlap)
                 .fold(0.0, f64::max),
         }
+    }
+
+    /// What detection measured over the contacts `tally` counts (by the lower-id disc's
+    /// place), with the same arithmetic as `find`'s test (the minimum image is antisymmetric
+    /// bit for bit, so the pair's order does not matter).
+    pub(crate) fn tallied(&self, p: &Particles, ctx: &StepContext, tally: Tally) -> Detection {
+        let min_image = ctx.geometry.min_image();
+        let mut detection = Detection::default();
+        for c in &self.list {
+            let (a, b) = (c.a as usize, c.b as usize);
+            if !tally.counts(p.y[a]) {
+                continue;
+            }
+            let [dx, dy] = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+            let reach = ctx.law.collision_distance(p.radius[a], p.radius[b]);
+            let distance = (dx * dx + dy * dy).sqrt();
+            detection.pairs += 1;
+            detection.max_overlap = detection.max_overlap.max(reach - distance);
+        }
+        detection
     }
 
     /// Gathers the contacts found per candidate block into `list`, in canonical order. Keys
@@ -525,7 +547,7 @@ mod tests {
         // dense (the bucket sort) and sparse (the comparison sort), against a plain sort.
         let exec = crate::parallel::Executor::default();
         let config = Config::default();
-        let ctx = StepContext::new(&config, 0.1, &exec);
+        let ctx = StepContext::new(&config, 0.1, &exec, None);
         let mut state = 12345u64;
         let mut next = move || {
             state = state

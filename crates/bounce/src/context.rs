@@ -5,6 +5,7 @@ use crate::config::Config;
 use crate::geometry::Geometry;
 use crate::law::Law;
 use crate::parallel::Executor;
+use crate::part::Tally;
 
 /// The substep length, the collision law, the geometry and where work runs.
 #[derive(Clone, Copy, Debug)]
@@ -23,11 +24,17 @@ pub(crate) struct StepContext<'a> {
     pub stack_order: Option<[f64; 2]>,
     /// Serial or a thread pool; results never depend on it.
     pub exec: &'a Executor,
+    /// Which events the step's sums count: all (`None`), or in a part of a distributed
+    /// world those in its region (see `part`).
+    pub tally: Option<Tally>,
+    /// The contact order's grid is sized for discs up to this radius at least (see
+    /// `World::set_order_radius`; 0 sizes it for the discs here).
+    pub order_radius: f64,
 }
 
 impl<'a> StepContext<'a> {
     /// The context of a step of substep `h` under `config`.
-    pub(crate) fn new(config: &Config, h: f64, exec: &'a Executor) -> Self {
+    pub(crate) fn new(config: &Config, h: f64, exec: &'a Executor, tally: Option<Tally>) -> Self {
         StepContext {
             h,
             gravity: config.gravity,
@@ -36,6 +43,8 @@ impl<'a> StepContext<'a> {
             stack_order: (config.solver_iterations > 1 && config.gravity != [0.0, 0.0])
                 .then_some(config.gravity),
             exec,
+            tally,
+            order_radius: 0.0,
         }
     }
 }

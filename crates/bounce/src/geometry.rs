@@ -37,13 +37,6 @@ impl WallImpulse {
     pub fn total(&self) -> f64 {
         self.left + self.right + self.bottom + self.top
     }
-
-    pub(crate) fn add(&mut self, other: &WallImpulse) {
-        self.left += other.left;
-        self.right += other.right;
-        self.bottom += other.bottom;
-        self.top += other.top;
-    }
 }
 
 /// The boundary in the form the stages use, with the derived quantities precomputed.

@@ -3,7 +3,8 @@
 //! `v += g h; x += v h` for each disc, and the boundary applied right after it moves, in one
 //! pass over memory. The same pass measures how far each disc now is from its broadphase
 //! reference position, so checking the candidate list costs no extra pass. It runs over
-//! fixed chunks so the wall-impulse sums do not depend on the thread count.
+//! fixed chunks; the wall impulses are summed exactly (`sum`), so they depend on neither the
+//! thread count nor the storage order.
 //!
 //! The pass is compute-bound, so the boundary and the reference check are chosen once per
 //! pass, not per disc, and walls only read a disc's radius and mass when it is within the
@@ -11,15 +12,16 @@
 
 use crate::broadphase::Reference;
 use crate::context::StepContext;
-use crate::geometry::{Geometry, MinImage, WallImpulse, reflect, wrap};
+use crate::geometry::{Geometry, MinImage, reflect, wrap};
 use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
+use crate::sum::WallSums;
 
 /// What integration reports.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(crate) struct Moved {
-    /// Momentum given to each wall.
-    pub impulse: WallImpulse,
+    /// Momentum given to each wall (by the discs the step's tally counts).
+    pub impulse: WallSums,
     /// The largest squared distance of a disc from its reference position (infinite when
     /// there is no reference).
     pub max_displacement2: f64,
@@ -48,6 +50,7 @@ pub(crate) fn integrate(
     let n = p.len();
     let reference = reference.positions(n);
     let law = ctx.law;
+    let tally = ctx.tally;
     let (radius, mass) = (&p.radius, &p.mass);
     let mut chunks: Vec<Chunk> =
         p.x.chunks_mut(CHUNK)
@@ -97,10 +100,9 @@ pub(crate) fn integrate(
                 let m = law.mass(r, mass[i]);
                 let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
                 let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
-                impulse.left += left;
-                impulse.right += right;
-                impulse.bottom += bottom;
-                impulse.top += top;
+                if tally.is_none_or(|t| t.counts(*y)) {
+                    impulse.add([left, right, bottom, top]);
+                }
             }
         }),
     };
@@ -114,7 +116,7 @@ pub(crate) fn integrate(
     };
     let mut max_speed2 = 0.0f64;
     for (impulse, d2, v2) in &partial {
-        moved.impulse.add(impulse);
+        moved.impulse.merge(impulse);
         moved.max_displacement2 = moved.max_displacement2.max(*d2);
         max_speed2 = max_speed2.max(*v2);
     }
@@ -137,8 +139,8 @@ impl Pass<'_> {
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
-        boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse) + Sync,
-    ) -> Vec<(WallImpulse, f64, f64)> {
+        boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Sync,
+    ) -> Vec<(WallSums, f64, f64)> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         match self.reference {
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
@@ -160,12 +162,12 @@ impl Pass<'_> {
     fn chunk(
         &self,
         chunk: &mut Chunk,
-        boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallImpulse),
+        boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums),
         displacement2: impl Fn(usize, f64, f64) -> f64,
-    ) -> (WallImpulse, f64, f64) {
+    ) -> (WallSums, f64, f64) {
         let [gx, gy] = self.gravity;
         let h = self.h;
-        let mut impulse = WallImpulse::default();
+        let mut impulse = WallSums::default();
         let mut max_displacement2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
         let Chunk {

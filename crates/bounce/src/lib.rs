@@ -47,11 +47,13 @@ mod integrate;
 pub mod law;
 mod obstacles;
 mod parallel;
+mod part;
 mod particles;
 mod resolve;
 pub mod scene;
 mod sources;
 mod stats;
+mod sum;
 mod world;
 
 pub use config::{
@@ -60,7 +62,9 @@ pub use config::{
 pub use geometry::WallImpulse;
 pub use obstacles::{Motion, Obstacle, ObstacleState, Shape};
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
+pub use part::{DiscRecord, Tally, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use sources::{Emitter, EmitterState, Sink};
 pub use stats::{StepProfile, StepStats};
+pub use sum::{ExactSum, StepSums, WallSums};
 pub use world::{StepError, World, WorldError};

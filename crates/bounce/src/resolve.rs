@@ -14,10 +14,11 @@
 
 use crate::contacts::Contacts;
 use crate::context::StepContext;
-use crate::geometry::{Geometry, WallImpulse, bounce};
+use crate::geometry::{Geometry, bounce};
 use crate::law::Body;
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::particles::Particles;
+use crate::sum::{ExactSum, WallSums};
 
 /// How many contacts ahead the solver asks for the discs' cache lines.
 const PREFETCH_AHEAD: usize = 8;
@@ -26,8 +27,10 @@ const PREFETCH_AHEAD: usize = 8;
 /// walls holding: a disc a push left beyond a wall is put back against it. Returns the
 /// collision virial of the substep, `Σ r_ij · Δp_ij` over the resolved pairs (`r_ij` the
 /// centre difference, `Δp_ij` the pair's impulse, the antisymmetric part of the two momentum
-/// changes: exact when the model conserves momentum), summed in canonical order.
-pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> f64 {
+/// changes: exact when the model conserves momentum), summed exactly (so in no particular
+/// order), over the contacts the step's tally counts (by the lower-id disc's place).
+pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> ExactSum {
+    let tally = ctx.tally;
     let law = &ctx.law;
     let min_image = ctx.geometry.min_image();
     let radius = &p.radius;
@@ -37,14 +40,14 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
     let vx = SharedSlice::new(&mut p.vx);
     let vy = SharedSlice::new(&mut p.vy);
     let geometry = ctx.geometry;
-    let mut virial = 0.0;
+    let mut virial = ExactSum::new();
     for phase in &contacts.phases {
         // A contact costs a few cache misses: count it as a few discs' work.
         let pieces = &contacts.pieces[phase.clone()];
         let work = 4 * (pieces.last().map_or(0, |p| p.end) - pieces.first().map_or(0, |p| p.start));
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
             let list = &contacts.list[contacts.pieces[piece].clone()];
-            let mut virial = 0.0;
+            let mut virial = ExactSum::new();
             for (k, contact) in list.iter().enumerate() {
                 // Contacts touch scattered discs: start loading a later contact's discs now.
                 if let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
@@ -75,7 +78,9 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
                         0.5 * (body_a.mass * (out.v1[k] - body_a.velocity[k])
                             - body_b.mass * (out.v2[k] - body_b.velocity[k]))
                     });
-                    virial += diff[0] * impulse[0] + diff[1] * impulse[1];
+                    if tally.is_none_or(|t| t.counts(y.get(a))) {
+                        virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+                    }
                     let (mut xa, mut ya) = (x.get(a) + out.push[0], y.get(a) + out.push[1]);
                     let (mut xb, mut yb) = (x.get(b) - out.push[0], y.get(b) - out.push[1]);
                     geometry.hold(&mut xa, &mut ya, body_a.radius);
@@ -92,7 +97,9 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
             }
             virial
         });
-        virial += partial.iter().sum::<f64>();
+        for piece in &partial {
+            virial.merge(piece);
+        }
     }
     virial
 }
@@ -100,17 +107,18 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
 /// Walls as contacts of a solver pass: every disc touching a wall (its centre at most its
 /// radius from it, as [`Geometry::hold`] leaves pushed discs) and moving into it leaves with
 /// its normal velocity reversed and scaled by the walls' restitution, like a reflection in
-/// integration. Returns the momentum given to each wall, summed in chunk order.
-pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallImpulse {
+/// integration. Returns the momentum given to each wall by the discs the tally counts.
+pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
     let Geometry::Walls {
         min,
         max,
         restitution: e,
     } = ctx.geometry
     else {
-        return WallImpulse::default();
+        return WallSums::default();
     };
     let law = &ctx.law;
+    let tally = ctx.tally;
     let (x, y, radius, mass) = (&p.x, &p.y, &p.radius, &p.mass);
     let mut chunks: Vec<(usize, &mut [f64], &mut [f64])> =
         p.vx.chunks_mut(CHUNK)
@@ -131,25 +139,22 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallImpulse
     let partial = ctx
         .exec
         .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy)| {
-            let mut impulse = WallImpulse::default();
+            let mut impulse = WallSums::default();
             for (k, (vx, vy)) in vx.iter_mut().zip(vy.iter_mut()).enumerate() {
                 let i = *base + k;
                 let r = radius[i];
                 let m = law.mass(r, mass[i]);
                 let [left, right] = touch(x[i], vx, r, m, min[0], max[0]);
                 let [bottom, top] = touch(y[i], vy, r, m, min[1], max[1]);
-                impulse.add(&WallImpulse {
-                    left,
-                    right,
-                    bottom,
-                    top,
-                });
+                if tally.is_none_or(|t| t.counts(y[i])) {
+                    impulse.add([left, right, bottom, top]);
+                }
             }
             impulse
         });
-    let mut total = WallImpulse::default();
+    let mut total = WallSums::default();
     for impulse in &partial {
-        total.add(impulse);
+        total.merge(impulse);
     }
     total
 }

@@ -107,7 +107,7 @@ mod tests {
             ..Config::default()
         };
         let exec = Executor::default();
-        let ctx = StepContext::new(&config, 0.1, &exec);
+        let ctx = StepContext::new(&config, 0.1, &exec, None);
         let x = [3.5, 0.5, 3.6, 0.6, 2.0];
         let y = [0.5, 0.5, 0.5, 3.5, 0.5];
         let radius = [0.5; 5];

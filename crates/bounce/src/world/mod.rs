@@ -20,10 +20,12 @@ use crate::integrate::integrate;
 use crate::law::Law;
 use crate::obstacles::{self, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
+use crate::part::{DiscRecord, Tally};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
 use crate::sources::{self, EmitterState};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
+use crate::sum::StepSums;
 
 mod state;
 #[cfg(test)]
@@ -88,6 +90,16 @@ pub struct World {
     /// Where each id is stored, built on demand after each step.
     #[serde(skip)]
     index_of: OnceLock<IndexMap>,
+    /// Which events the step's sums count (`None`: all; see `part`).
+    #[serde(skip)]
+    tally: Option<Tally>,
+    /// The contact order's grid is sized for discs up to this radius at least (the whole
+    /// world's largest, in a part of it; see `part`).
+    #[serde(skip)]
+    order_radius: f64,
+    /// The exact sums of the last step.
+    #[serde(skip)]
+    sums: StepSums,
 }
 
 /// Why a step was refused.
@@ -159,6 +171,9 @@ impl World {
             contacts: Contacts::default(),
             exec: Executor::default(),
             index_of: OnceLock::new(),
+            tally: None,
+            order_radius: 0.0,
+            sums: StepSums::default(),
         })
     }
 
@@ -290,14 +305,24 @@ impl World {
     /// Advances the world by `dt`, in `config.substeps` substeps (more with
     /// `config.max_travel`), and returns what it measured.
     pub fn step(&mut self, dt: f64) -> Result<&StepStats, StepError> {
+        let substeps = self.substeps_for(dt);
+        self.step_with_substeps(dt, substeps)
+    }
+
+    /// [`World::step`] in exactly `substeps` substeps (at least 1, at most
+    /// [`crate::MAX_SUBSTEPS`]): for a part of a distributed world, whose substeps the whole
+    /// world's fastest disc decides (see [`World::substeps_for_extremes`]).
+    pub fn step_with_substeps(&mut self, dt: f64, substeps: u32) -> Result<&StepStats, StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep(dt));
         }
+        let substeps = substeps.clamp(1, crate::MAX_SUBSTEPS);
         let emitted = self.emit(dt);
-        let substeps = self.substeps_for(dt);
         let h = dt / substeps as f64;
         self.prepare_obstacles();
-        let ctx = StepContext::new(&self.config, h, &self.exec);
+        let mut ctx = StepContext::new(&self.config, h, &self.exec, self.tally);
+        ctx.order_radius = self.order_radius;
+        let mut sums = StepSums::default();
         let mut stats = StepStats {
             substeps,
             emitted,
@@ -307,7 +332,6 @@ impl World {
         let mut clock = Stopwatch::start();
         let mut reordered = false;
         let mut finite = true;
-        let mut virial = 0.0;
         let obstacles = self.obstacles.as_mut().expect("prepared");
         let has_obstacles = !obstacles.is_empty();
         // Segments can be crossed: discs are followed from where they were last on the
@@ -327,7 +351,7 @@ impl World {
             }
             let bp = &mut self.broadphase;
             let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
-            stats.wall_impulse.add(&moved.impulse);
+            sums.walls.merge(&moved.impulse);
             if follow {
                 // Discs that flew through a segment in this substep go back.
                 meet_obstacles(
@@ -366,11 +390,16 @@ impl World {
             for pass in 0..self.config.solver_iterations {
                 let found = self.contacts.find(bp, &self.particles, &ctx);
                 if pass == 0 {
+                    let found = match ctx.tally {
+                        None => found,
+                        Some(tally) => self.contacts.tallied(&self.particles, &ctx, tally),
+                    };
                     stats.pairs += found.pairs;
                     stats.max_overlap = stats.max_overlap.max(found.max_overlap);
                 }
                 profile.pairs += clock.lap();
-                virial += resolve_all(&self.contacts, &mut self.particles, &ctx);
+                sums.virial
+                    .merge(&resolve_all(&self.contacts, &mut self.particles, &ctx));
                 if has_obstacles {
                     meet_obstacles(
                         &mut self.particles,
@@ -383,14 +412,11 @@ impl World {
                     );
                 }
                 if self.config.solver_iterations > 1 {
-                    stats
-                        .wall_impulse
-                        .add(&resolve_walls(&mut self.particles, &ctx));
+                    sums.walls.merge(&resolve_walls(&mut self.particles, &ctx));
                 }
                 profile.resolve += clock.lap();
             }
         }
-        let geometry = ctx.geometry;
         if !self.config.sinks.is_empty() && finite {
             stats.removed = self.drain_sinks();
             reordered |= stats.removed > 0;
@@ -408,18 +434,11 @@ impl World {
         (stats.kinetic_energy, stats.momentum) = (measured.kinetic_energy, measured.momentum);
         // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
         // impulses over the step.
-        stats.virial = 0.5 * virial / dt;
-        let mean_radius = measured.radius_sum / self.particles.len().max(1) as f64;
-        stats.pressure = geometry.area(mean_radius).map(|area| {
-            let [px, py] = measured.momentum;
-            let drift = if measured.total_mass > 0.0 {
-                (px * px + py * py) / (2.0 * measured.total_mass)
-            } else {
-                0.0
-            };
-            (measured.kinetic_energy - drift + stats.virial) / area
-        });
+        stats.virial = 0.5 * sums.virial.value() / dt;
+        stats.wall_impulse = sums.walls.impulse();
+        self.sums = sums;
         self.measured = measured;
+        stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
         profile.measure += clock.lap();
         self.stats = stats;
         stats.obstacle_work = met.work;
@@ -599,14 +618,20 @@ impl World {
     /// many as keep the fastest disc (gravity included) within `max_travel` of the smallest
     /// radius per substep, at most [`crate::MAX_SUBSTEPS`].
     fn substeps_for(&self, dt: f64) -> u32 {
+        self.substeps_for_extremes(dt, self.measured.max_speed2, self.measured.min_radius)
+    }
+
+    /// The substeps a step of `dt` takes when the fastest disc's squared speed is
+    /// `max_speed2` and the smallest radius `min_radius` (what [`World::step`] measures over
+    /// its own discs; a distributed run gives the whole world's).
+    pub fn substeps_for_extremes(&self, dt: f64, max_speed2: f64, min_radius: f64) -> u32 {
         let fixed = self.config.substeps;
         let Some(fraction) = self.config.max_travel else {
             return fixed;
         };
-        let m = &self.measured;
         let [gx, gy] = self.config.gravity;
-        let v_max = m.max_speed2.sqrt() + (gx * gx + gy * gy).sqrt() * dt;
-        let needed = (v_max * dt / (fraction * m.min_radius)).ceil();
+        let v_max = max_speed2.sqrt() + (gx * gx + gy * gy).sqrt() * dt;
+        let needed = (v_max * dt / (fraction * min_radius)).ceil();
         if needed.is_finite() && needed > fixed as f64 {
             needed.min(crate::MAX_SUBSTEPS as f64) as u32
         } else {
@@ -790,7 +815,7 @@ impl World {
     /// step finds them (grids, then the law's test). A query: neither the state nor the
     /// storage order changes.
     pub fn colliding_pairs(&self) -> Vec<(ParticleId, ParticleId)> {
-        let ctx = StepContext::new(&self.config, 0.0, &self.exec);
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
         let p = &self.particles;
         let mut broadphase = Broadphase::default();
         // Any margin gives a superset of the colliding pairs; the law's test decides.
@@ -805,7 +830,7 @@ impl World {
     /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
     /// reference the grid is tested against. O(N²): for tests and small worlds.
     pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
-        let ctx = StepContext::new(&self.config, 0.0, &self.exec);
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
         broadphase::brute_force_pairs(&self.particles, &ctx)
     }
 
@@ -843,6 +868,93 @@ impl World {
             .map(|i| p.id[i].0)
             .min()
             .map_or_else(|| "?".into(), |id| id.to_string())
+    }
+
+    /// The pressure `(K + W) / A` of [`StepStats::pressure`] for a kinetic energy, momentum
+    /// and virial `W` (the discs' total mass and mean radius are the world's, summed in id
+    /// order). `None` in an open world.
+    pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
+        let m = &self.measured;
+        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
+        Geometry::new(&self.config).area(mean_radius).map(|area| {
+            let [px, py] = momentum;
+            let drift = if m.total_mass > 0.0 {
+                (px * px + py * py) / (2.0 * m.total_mass)
+            } else {
+                0.0
+            };
+            (kinetic_energy - drift + virial) / area
+        })
+    }
+
+    /// Counts only the events in `tally`'s region in the step's sums (`None`: all): for a
+    /// part of a distributed world, see [`Tally`].
+    pub fn set_tally(&mut self, tally: Option<Tally>) {
+        self.tally = tally;
+    }
+
+    /// Sizes the contact order's grid for discs up to `radius` (or this world's largest, if
+    /// larger): a part of a distributed world gives the whole world's largest radius, so
+    /// that its contacts fall in the same order.
+    pub fn set_order_radius(&mut self, radius: f64) {
+        self.order_radius = radius;
+    }
+
+    /// The exact sums of the last step (see [`StepSums`]).
+    pub fn step_sums(&self) -> &StepSums {
+        &self.sums
+    }
+
+    /// Takes `other`'s clock, last statistics, obstacles, sources and id counter.
+    pub(crate) fn adopt_clock(&mut self, other: &World) {
+        self.next_id = other.next_id;
+        self.time = other.time;
+        self.steps = other.steps;
+        self.stats = other.stats;
+        self.obstacle_states = other.obstacle_states.clone();
+        self.obstacle_impulses = other.obstacle_impulses.clone();
+        self.obstacle_work = other.obstacle_work;
+        self.emitter_states = other.emitter_states.clone();
+        self.removed = other.removed;
+        self.emitted_ids = other.emitted_ids.clone();
+    }
+
+    /// Appends a disc with its id and image counts (checked by the caller).
+    pub(crate) fn push_record(&mut self, r: &DiscRecord) {
+        let p = &mut self.particles;
+        p.id.push(r.id);
+        p.x.push(r.position[0]);
+        p.y.push(r.position[1]);
+        p.vx.push(r.velocity[0]);
+        p.vy.push(r.velocity[1]);
+        p.radius.push(r.radius);
+        p.mass.push(r.mass);
+        p.image.push(r.image);
+    }
+
+    /// After discs were pushed: ids, broadphase and measurements brought up to date (the
+    /// last statistics' energy and momentum kept as adopted).
+    pub(crate) fn after_records(&mut self) {
+        self.index_of = OnceLock::new();
+        self.obstacles = None;
+        self.broadphase.invalidate();
+        let stats = self.stats;
+        self.remeasure();
+        self.stats = stats;
+        // Ids run to `next_id` with gaps: the removed ones and, in a part, the others'.
+        self.removed = self.next_id - self.particles.len() as u32;
+    }
+
+    /// Writes positions and velocities at storage indices `at`.
+    pub(crate) fn write_motion(&mut self, at: &[usize], states: &[(ParticleId, [f64; 4])]) {
+        let p = &mut self.particles;
+        for (&i, (_, [x, y, vx, vy])) in at.iter().zip(states) {
+            (p.x[i], p.y[i], p.vx[i], p.vy[i]) = (*x, *y, *vx, *vy);
+        }
+    }
+
+    pub(crate) fn set_stats(&mut self, stats: StepStats) {
+        self.stats = stats;
     }
 
     /// The total mass and the sum of the radii, summed in id order: the same bits whatever

@@ -1,0 +1,251 @@
+//! Parts of a world: what a distributed run (the CLI's MPI front end) needs from the core to
+//! step one world as many, each rank holding the discs of its region and a halo of copies
+//! of its neighbours' ("ghosts"), and still get one process's bits.
+//!
+//! Three things make a part step exactly as the whole world would, for the discs far enough
+//! from its halo's edge:
+//! - the state's evolution depends on the discs' positions, radii, ids and the
+//!   configuration only, never on storage order or which discs are stored (the contact order
+//!   is canonical, `contacts`), so a part holding every disc within the reach of the step's
+//!   chains of contacts computes those discs' new states exactly;
+//! - the contact order's grid is sized for the largest radius of the *whole* world
+//!   ([`World::set_order_radius`]), not the part's;
+//! - the step's sums are exact ([`crate::ExactSum`]), and each part counts only the events in
+//!   its region ([`World::set_tally`]: contacts by their lower-id disc's place, wall hits by
+//!   the disc's place), so the ranks' sums merge into the whole world's, bit for bit.
+//!
+//! [`DiscRecord`] is a disc's whole state, for moving discs between parts.
+
+use serde::{Deserialize, Serialize};
+
+use crate::particles::{Particle, ParticleId};
+use crate::stats::StepStats;
+use crate::world::{World, WorldError};
+
+/// Which events a part's sums count: those whose place (after wrapping into a periodic box)
+/// has `lo <= y < hi`. The parts' regions tile the world, so every event is counted once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tally {
+    lo: f64,
+    hi: f64,
+    /// `(min, size)` of a periodic box along y.
+    period: Option<(f64, f64)>,
+}
+
+impl Tally {
+    /// Events with `lo <= y < hi`, where `y` is first wrapped into `[min, min + size)` when
+    /// `period` is `Some((min, size))`. Use infinite ends for the first and last region.
+    pub fn new(lo: f64, hi: f64, period: Option<(f64, f64)>) -> Tally {
+        Tally { lo, hi, period }
+    }
+
+    /// Whether an event at height `y` is counted here.
+    #[inline]
+    pub fn counts(&self, y: f64) -> bool {
+        let y = match self.period {
+            Some((min, size)) => wrap_coordinate(y, min, size),
+            None => y,
+        };
+        self.lo <= y && y < self.hi
+    }
+}
+
+/// `v` wrapped into `[min, min + size)` (or onto `min + size` itself, by rounding): the one
+/// formula every rank uses to say which region a place is in.
+#[inline]
+pub fn wrap_coordinate(v: f64, min: f64, size: f64) -> f64 {
+    let t = v - min;
+    min + (t - size * (t / size).floor())
+}
+
+/// One disc's whole state: what moves between the parts of a distributed world.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DiscRecord {
+    /// Its id in the whole world.
+    pub id: ParticleId,
+    /// Centre.
+    pub position: [f64; 2],
+    /// Velocity.
+    pub velocity: [f64; 2],
+    /// Radius.
+    pub radius: f64,
+    /// The per-particle mass (see [`Particle::mass`]).
+    pub mass: f64,
+    /// Periodic image counts.
+    pub image: [i32; 2],
+}
+
+impl DiscRecord {
+    /// How many `f64` words [`DiscRecord::to_words`] writes.
+    pub const WORDS: usize = 9;
+
+    /// The record as words (ids and image counts are exact in an `f64`).
+    pub fn to_words(&self) -> [f64; Self::WORDS] {
+        [
+            f64::from(self.id.0),
+            self.position[0],
+            self.position[1],
+            self.velocity[0],
+            self.velocity[1],
+            self.radius,
+            self.mass,
+            f64::from(self.image[0]),
+            f64::from(self.image[1]),
+        ]
+    }
+
+    /// The record [`DiscRecord::to_words`] wrote.
+    pub fn from_words(w: &[f64]) -> DiscRecord {
+        DiscRecord {
+            id: ParticleId(w[0] as u32),
+            position: [w[1], w[2]],
+            velocity: [w[3], w[4]],
+            radius: w[5],
+            mass: w[6],
+            image: [w[7] as i32, w[8] as i32],
+        }
+    }
+}
+
+impl World {
+    /// The record of the disc at storage index `i`.
+    pub fn record(&self, i: usize) -> DiscRecord {
+        let p = self.particles();
+        DiscRecord {
+            id: p.ids()[i],
+            position: [p.x()[i], p.y()[i]],
+            velocity: [p.vx()[i], p.vy()[i]],
+            radius: p.radius()[i],
+            mass: p.per_particle_mass()[i],
+            image: p.image()[i],
+        }
+    }
+
+    /// A world of these discs (ids kept, stored in the order given) with this one's
+    /// configuration, clock, last statistics, obstacles, sources and id counter: a part of
+    /// this world, or (given every disc) the whole of a distributed one. Its candidates are
+    /// listed at its first step; it runs on one thread until told otherwise.
+    pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
+        let mut part = World::new(self.config().clone())?;
+        part.adopt_clock(self);
+        let mut seen = std::collections::HashSet::with_capacity(records.len());
+        for r in records {
+            let particle = Particle {
+                position: r.position,
+                velocity: r.velocity,
+                radius: r.radius,
+                mass: Some(r.mass),
+            };
+            particle
+                .validate(part.config())
+                .map_err(|error| WorldError::Particle { id: r.id, error })?;
+            if r.id.0 >= part.next_id() || !seen.insert(r.id) {
+                return Err(WorldError::Inconsistent(format!(
+                    "disc {} is repeated or beyond the world's ids (next id {})",
+                    r.id.0,
+                    part.next_id()
+                )));
+            }
+            part.push_record(r);
+        }
+        part.after_records();
+        Ok(part)
+    }
+
+    /// Sets the position and velocity `[x, y, vx, vy]` of each disc named (a part's ghosts,
+    /// from their owners; their image counts are left as they are). Every id must be here;
+    /// otherwise nothing changes.
+    pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 4])]) -> Result<(), WorldError> {
+        let mut at = Vec::with_capacity(states.len());
+        for (id, _) in states {
+            let i = self.index_of(*id).ok_or_else(|| {
+                WorldError::Inconsistent(format!("disc {} is not in this world", id.0))
+            })?;
+            at.push(i);
+        }
+        self.write_motion(&at, states);
+        Ok(())
+    }
+
+    /// Reports `stats` as the last step's: a distributed run's whole world, assembled from
+    /// its parts, reports the step's statistics merged from theirs.
+    pub fn set_reported_stats(&mut self, stats: StepStats) {
+        self.set_stats(stats);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Boundary, Config};
+
+    #[test]
+    fn a_tally_wraps_periodic_places_and_splits_the_box() {
+        let period = Some((0.0, 10.0));
+        let low = Tally::new(f64::NEG_INFINITY, 5.0, period);
+        let high = Tally::new(5.0, f64::INFINITY, period);
+        for y in [-0.5, 0.0, 4.999, 5.0, 9.99, 10.0, 10.5, 23.0, -17.0] {
+            assert!(low.counts(y) != high.counts(y), "y = {y} counted once");
+        }
+        assert!(high.counts(-0.5)); // wraps to 9.5
+        assert!(low.counts(10.5)); // wraps to 0.5
+        let open = Tally::new(1.0, 2.0, None);
+        assert!(open.counts(1.0) && !open.counts(2.0) && !open.counts(11.5));
+    }
+
+    #[test]
+    fn records_round_trip_through_words_and_parts() {
+        let config = Config {
+            boundary: Boundary::Periodic {
+                min: [0.0, 0.0],
+                max: [10.0, 10.0],
+            },
+            ..Config::default()
+        };
+        let mut world = World::new(config).unwrap();
+        world
+            .add_particles((0..5).map(|k| {
+                Particle::new(
+                    [1.0 + 2.0 * k as f64, 5.0],
+                    [k as f64, -1.0],
+                    0.1 + k as f64 * 0.1,
+                )
+            }))
+            .unwrap();
+        for _ in 0..30 {
+            world.step(0.1).unwrap();
+        }
+        let all: Vec<DiscRecord> = (0..world.len()).map(|i| world.record(i)).collect();
+        assert!(all.iter().any(|r| r.image != [0, 0]), "some disc wrapped");
+        for r in &all {
+            assert_eq!(DiscRecord::from_words(&r.to_words()), *r);
+        }
+        // A part of discs 3 and 1, in that order, with the clock.
+        let picked = [all[3], all[1]];
+        let part = world.part(&picked).unwrap();
+        assert_eq!(part.len(), 2);
+        assert_eq!(part.step_count(), world.step_count());
+        assert_eq!(part.time(), world.time());
+        assert_eq!(part.record(0), picked[0]);
+        assert_eq!(part.particle(all[1].id), world.particle(all[1].id));
+        // The whole, rebuilt from its records in reverse, steps to the same bits.
+        let mut reversed = all.clone();
+        reversed.reverse();
+        let mut whole = world.part(&reversed).unwrap();
+        assert_eq!(whole.state_hash(), world.state_hash());
+        for _ in 0..20 {
+            world.step(0.1).unwrap();
+            whole.step(0.1).unwrap();
+        }
+        assert_eq!(whole.state_hash(), world.state_hash());
+        // Overwriting puts a disc's state back; an unknown id is an error.
+        let moved = picked[1].id;
+        let mut part = world.part(&picked).unwrap();
+        part.overwrite(&[(moved, [7.5, 7.5, 1.0, 2.0])]).unwrap();
+        let disc = part.particle(moved).unwrap();
+        assert_eq!((disc.position, disc.velocity), ([7.5, 7.5], [1.0, 2.0]));
+        assert!(part.overwrite(&[(all[4].id, [0.0; 4])]).is_err());
+        // Repeated ids are refused.
+        assert!(world.part(&[all[0], all[0]]).is_err());
+    }
+}

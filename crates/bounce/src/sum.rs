@@ -1,0 +1,378 @@
+//! Exact sums: totals that do not depend on the order of their terms.
+//!
+//! A step's fluxes (the collision virial, the walls' impulses) are sums over events that
+//! threads, storage order and, in a distributed run, the ranks meet in different orders.
+//! Floating-point addition is not associative, so a plain `+=` would give totals that differ
+//! in their last bits with the order. [`ExactSum`] keeps the sum exactly, as a fixed-point
+//! integer wide enough for every finite `f64` (a "superaccumulator": 32-bit lanes of `i64`,
+//! each with room for 2^31 additions before carries are propagated), so any order, any
+//! grouping and any merge of partial sums give the same total, and [`ExactSum::value`] turns
+//! that one total into the same `f64`. Infinities and NaN are kept apart in an `f64` whose
+//! sum does not depend on order either (`inf + -inf` is NaN whichever comes first).
+//!
+//! The lanes are allocated on the first non-zero term, so a sum that stays empty (a chunk of
+//! discs none of which met a wall) costs nothing.
+
+/// 32-bit lanes from 2^-1074 (the smallest subnormal) up: 2046 exponents plus 53 mantissa bits
+/// need 66, and one more holds the carries of a total above `f64::MAX`.
+const LANES: usize = 67;
+/// Additions a lane takes (each adds less than 2^32 in magnitude) before carries must be
+/// propagated to keep it within `i64`.
+const ADDS_BEFORE_CARRY: u32 = 1 << 30;
+
+/// An exact, order-independent sum of `f64` terms.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExactSum {
+    /// Lane `k` weighs `2^(32 k - 1074)`; `None` until a non-zero finite term arrives.
+    lanes: Option<Box<[i64; LANES]>>,
+    /// Additions since carries were last propagated.
+    adds: u32,
+    /// The sum of the non-finite terms (0 when there are none).
+    special: f64,
+}
+
+impl ExactSum {
+    /// An empty sum (zero).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds `v` exactly.
+    #[inline]
+    pub fn add(&mut self, v: f64) {
+        if v == 0.0 {
+            return;
+        }
+        let bits = v.to_bits();
+        let exponent = ((bits >> 52) & 0x7ff) as u32;
+        if exponent == 0x7ff {
+            self.special += v;
+            return;
+        }
+        let mut mantissa = bits & ((1 << 52) - 1);
+        // `v = ±mantissa × 2^(position − 1074)`; subnormals have position 0.
+        let position = if exponent == 0 {
+            0
+        } else {
+            mantissa |= 1 << 52;
+            exponent - 1
+        };
+        let (lane, shift) = ((position / 32) as usize, position % 32);
+        let wide = u128::from(mantissa) << shift;
+        let pieces = [
+            (wide & 0xffff_ffff) as i64,
+            ((wide >> 32) & 0xffff_ffff) as i64,
+            (wide >> 64) as i64,
+        ];
+        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
+        let negative = bits >> 63 == 1;
+        for (k, piece) in pieces.into_iter().enumerate() {
+            if negative {
+                lanes[lane + k] -= piece;
+            } else {
+                lanes[lane + k] += piece;
+            }
+        }
+        self.adds += 1;
+        if self.adds >= ADDS_BEFORE_CARRY {
+            self.carry();
+        }
+    }
+
+    /// Adds every term of `other` (the two sums merged: still exact).
+    pub fn merge(&mut self, other: &ExactSum) {
+        self.special += other.special;
+        let Some(theirs) = &other.lanes else {
+            return;
+        };
+        // Both normalised, each lane is below 2^32 in magnitude: the sum stays far from
+        // overflow.
+        self.carry();
+        let mut theirs = theirs.clone();
+        carry_lanes(&mut theirs);
+        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
+        for (mine, theirs) in lanes.iter_mut().zip(theirs.iter()) {
+            *mine += theirs;
+        }
+        self.adds = 2;
+    }
+
+    /// Propagates carries so every lane but the top one lies in `[0, 2^32)`.
+    fn carry(&mut self) {
+        if let Some(lanes) = &mut self.lanes {
+            carry_lanes(lanes);
+        }
+        self.adds = 0;
+    }
+
+    /// The sum as one `f64` (within a unit in the last place of the exact total). Equal
+    /// totals give equal bits, however their terms were ordered or grouped.
+    pub fn value(&self) -> f64 {
+        let finite = match &self.lanes {
+            None => 0.0,
+            Some(lanes) => {
+                let mut lanes = lanes.clone();
+                carry_lanes(&mut lanes);
+                let negative = lanes[LANES - 1] < 0;
+                if negative {
+                    // The magnitude, in the same canonical form.
+                    for lane in lanes.iter_mut() {
+                        *lane = -*lane;
+                    }
+                    carry_lanes(&mut lanes);
+                }
+                // Top lane down: each lane is exact in an f64, and the first non-zero lanes
+                // fix the result.
+                let mut total = 0.0;
+                for (k, &lane) in lanes.iter().enumerate().rev() {
+                    if lane != 0 {
+                        total += scale(lane as f64, 32 * k as i32 - 1074);
+                    }
+                }
+                if negative { -total } else { total }
+            }
+        };
+        finite + self.special
+    }
+
+    /// The sum's canonical words, for sending (a distributed run reduces these by adding
+    /// them lane by lane, then [`ExactSum::from_words`]): `LANES` lanes then the non-finite
+    /// part's bits.
+    pub fn to_words(&self) -> Vec<i64> {
+        let mut words = match &self.lanes {
+            Some(lanes) => {
+                let mut lanes = lanes.clone();
+                carry_lanes(&mut lanes);
+                lanes.to_vec()
+            }
+            None => vec![0; LANES],
+        };
+        words.push(self.special.to_bits() as i64);
+        words
+    }
+
+    /// The number of words [`ExactSum::to_words`] gives.
+    pub const WORDS: usize = LANES + 1;
+
+    /// The sum of several sums' lanes (added lane by lane, at most 2^31 of them) and the
+    /// non-finite parts summed separately, as `special`.
+    pub fn from_words(lanes: &[i64], special: f64) -> ExactSum {
+        let mut sum = ExactSum {
+            lanes: None,
+            adds: 0,
+            special,
+        };
+        if lanes.iter().take(LANES).any(|&l| l != 0) {
+            let mut all = [0; LANES];
+            all.copy_from_slice(&lanes[..LANES]);
+            carry_lanes(&mut all);
+            sum.lanes = Some(Box::new(all));
+        }
+        sum
+    }
+}
+
+/// Carries every lane's bits above 32 into the next lane (the top lane keeps its sign).
+fn carry_lanes(lanes: &mut [i64; LANES]) {
+    for k in 0..LANES - 1 {
+        let carry = lanes[k] >> 32;
+        lanes[k] -= carry << 32;
+        lanes[k + 1] += carry;
+    }
+}
+
+/// `v × 2^e`, in steps of exact powers of two (so `e` may go past the `f64` exponent range
+/// while the result stays in it).
+fn scale(mut v: f64, mut e: i32) -> f64 {
+    while e > 1000 {
+        v *= f64::from_bits(2023 << 52); // 2^1000
+        e -= 1000;
+    }
+    while e < -1000 {
+        v *= f64::from_bits(23 << 52); // 2^-1000
+        e += 1000;
+    }
+    v * f64::from_bits(((e + 1023) as u64) << 52)
+}
+
+/// The momentum each wall received, summed exactly (see [`ExactSum`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WallSums {
+    /// Left (`min[0]`), right, bottom (`min[1]`), top.
+    pub walls: [ExactSum; 4],
+}
+
+impl WallSums {
+    /// Adds one disc's impulses on the left, right, bottom and top walls.
+    #[inline]
+    pub(crate) fn add(&mut self, impulses: [f64; 4]) {
+        for (sum, j) in self.walls.iter_mut().zip(impulses) {
+            sum.add(j);
+        }
+    }
+
+    /// Merges another set of sums.
+    pub fn merge(&mut self, other: &WallSums) {
+        for (mine, theirs) in self.walls.iter_mut().zip(&other.walls) {
+            mine.merge(theirs);
+        }
+    }
+
+    /// The totals as a [`crate::WallImpulse`].
+    pub fn impulse(&self) -> crate::WallImpulse {
+        let [left, right, bottom, top] = [0, 1, 2, 3].map(|k| self.walls[k].value());
+        crate::WallImpulse {
+            left,
+            right,
+            bottom,
+            top,
+        }
+    }
+}
+
+/// What a step sums over its events, exactly: the raw collision virial `Σ r_ij · Δp_ij` over
+/// every resolved pair of every substep and pass, and the walls' impulses. In a distributed
+/// run each rank sums the events it is responsible for ([`crate::World::set_tally`]) and the
+/// ranks' sums are merged: the totals equal one process's, bit for bit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepSums {
+    /// `Σ r_ij · Δp_ij` (the step's [`crate::StepStats::virial`] is half of it over `dt`).
+    pub virial: ExactSum,
+    /// The momentum given to each wall.
+    pub walls: WallSums,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator of awkward terms: mixed signs, magnitudes over 600
+    /// binary orders, subnormals.
+    fn terms(n: usize) -> Vec<f64> {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        (0..n)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                let mantissa = (state >> 11) as f64 / (1u64 << 53) as f64;
+                let exponent = (state % 600) as i32 - 300;
+                let sign = if state & 1 == 0 { 1.0 } else { -1.0 };
+                let v = sign * mantissa * 2f64.powi(exponent);
+                if state % 97 == 0 { v * 1e-310 } else { v }
+            })
+            .collect()
+    }
+
+    fn sum_of(values: &[f64]) -> ExactSum {
+        let mut s = ExactSum::new();
+        for &v in values {
+            s.add(v);
+        }
+        s
+    }
+
+    #[test]
+    fn integers_and_halves_sum_exactly() {
+        let s = sum_of(&[1.0, 2.0, 3.0, 0.5, -0.25]);
+        assert_eq!(s.value(), 6.25);
+        // Catastrophic cancellation a plain sum loses: 1e16 + 1 - 1e16 is 0 in f64.
+        let s = sum_of(&[1e16, 1.0, -1e16]);
+        assert_eq!(s.value(), 1.0);
+        assert_eq!((1e16 + 1.0) - 1e16, 0.0);
+        assert_eq!(sum_of(&[]).value(), 0.0);
+        assert_eq!(sum_of(&[-3.5]).value(), -3.5);
+        assert_eq!(sum_of(&[f64::MAX, f64::MAX, -f64::MAX]).value(), f64::MAX);
+        assert_eq!(sum_of(&[5e-324, 5e-324]).value(), 1e-323);
+    }
+
+    #[test]
+    fn any_order_and_any_grouping_give_the_same_bits() {
+        let values = terms(5000);
+        let forward = sum_of(&values).value();
+        let mut reversed = values.clone();
+        reversed.reverse();
+        assert_eq!(sum_of(&reversed).value().to_bits(), forward.to_bits());
+        // Split into uneven groups, merged in another order.
+        for cut in [1, 17, 2500, 4999] {
+            let mut merged = sum_of(&values[cut..]);
+            merged.merge(&sum_of(&values[..cut]));
+            assert_eq!(merged.value().to_bits(), forward.to_bits());
+        }
+        // Through the words of three parts added lane by lane, as ranks reduce them.
+        let parts = [&values[..1000], &values[1000..3000], &values[3000..]];
+        let mut lanes = vec![0i64; ExactSum::WORDS - 1];
+        for part in parts {
+            for (l, w) in lanes.iter_mut().zip(sum_of(part).to_words()) {
+                *l += w;
+            }
+        }
+        assert_eq!(
+            ExactSum::from_words(&lanes, 0.0).value().to_bits(),
+            forward.to_bits()
+        );
+    }
+
+    #[test]
+    fn a_plain_sum_depends_on_the_order_where_the_exact_one_does_not() {
+        // Terms of one magnitude, like a step's virial terms.
+        let mut state = 88172645463325252u64;
+        let values: Vec<f64> = (0..5000)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 + 0.5
+            })
+            .collect();
+        let mut reversed = values.clone();
+        reversed.reverse();
+        let plain: f64 = values.iter().sum();
+        let plain_reversed: f64 = reversed.iter().sum();
+        assert_ne!(plain.to_bits(), plain_reversed.to_bits());
+        let exact = sum_of(&values).value();
+        assert_eq!(exact.to_bits(), sum_of(&reversed).value().to_bits());
+        assert!((exact - plain).abs() <= plain.abs() * 1e-12);
+    }
+
+    #[test]
+    fn a_sum_is_the_exact_total_rounded() {
+        // Terms whose exact total is known: k × 2^-60 for k in 1..=1000, and their
+        // negatives shifted by one: total 1000 × 2^-60.
+        let mut s = ExactSum::new();
+        for k in 1..=1000 {
+            s.add(k as f64 * 2f64.powi(-60));
+            s.add(-((k - 1) as f64) * 2f64.powi(-60));
+        }
+        assert_eq!(s.value(), 1000.0 * 2f64.powi(-60));
+        // 0.1 ten times is not 1 in f64 arithmetic, but the exact sum of those ten doubles
+        // rounds to the double nearest 10 × 0.1's exact value.
+        let s = sum_of(&[0.1; 10]);
+        assert_eq!(s.value(), 1.0);
+        assert_ne!([0.1f64; 10].iter().sum::<f64>(), 1.0);
+    }
+
+    #[test]
+    fn infinities_and_nan_are_kept_whatever_the_order() {
+        assert_eq!(sum_of(&[1.0, f64::INFINITY]).value(), f64::INFINITY);
+        assert!(
+            sum_of(&[f64::INFINITY, 1.0, f64::NEG_INFINITY])
+                .value()
+                .is_nan()
+        );
+        assert!(sum_of(&[f64::NAN, 1.0]).value().is_nan());
+    }
+
+    #[test]
+    fn many_additions_carry_without_overflow() {
+        // Carries forced partway through give the same total as none.
+        let values = terms(10);
+        let mut s = ExactSum::new();
+        s.adds = ADDS_BEFORE_CARRY - 3;
+        for &v in &values {
+            s.add(v);
+        }
+        assert_eq!(s.adds, 7);
+        assert_eq!(s.value().to_bits(), sum_of(&values).value().to_bits());
+    }
+}
