@@ -1,6 +1,8 @@
 //! `bounce`: run scenarios headless, start new ones from templates, check files.
 
 mod checkpoint;
+#[cfg(feature = "mpi")]
+mod distributed;
 mod plots;
 mod render;
 mod run;
@@ -199,8 +201,18 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             steer,
             quiet,
         } => {
+            #[cfg(feature = "mpi")]
+            let distributed = distributed::launched();
+            #[cfg(not(feature = "mpi"))]
+            let distributed = false;
             let threads = threads.map_or_else(
-                || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                || {
+                    #[cfg(feature = "mpi")]
+                    if distributed {
+                        return distributed::default_threads();
+                    }
+                    std::thread::available_parallelism().map_or(1, |n| n.get())
+                },
                 usize::from,
             );
             let stop = stop_on_signals()?;
@@ -217,6 +229,11 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 origin,
                 limits,
             };
+            #[cfg(feature = "mpi")]
+            if distributed {
+                return Ok(distributed::main(&args, stop));
+            }
+            let _ = distributed;
             Ok(match run::run(&args, stop)? {
                 run::Outcome::Finished => ExitCode::SUCCESS,
                 run::Outcome::Stopped(signal) => ExitCode::from((128 + signal.clamp(0, 127)) as u8),

@@ -144,47 +144,96 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     outputs.finish(world, !reached)?;
     output_time += t.elapsed().as_secs_f64();
 
-    let ran = world.step_count() - start_step;
-    let energy_end = mechanical_energy(world);
-    let what = if world.config().gravity == [0.0, 0.0] {
-        "relative energy change"
-    } else {
-        "relative change of kinetic + potential energy"
+    let report = Report {
+        title: &session.title,
+        ran: world.step_count() - start_step,
+        total,
+        collisions,
+        energy_start,
+        physics_time,
+        output_time,
+        setup_time,
+        time_step: time_step.to_string(),
     };
-    let change = if energy_start != 0.0 {
-        format!("{:+.3e}", energy_end / energy_start - 1.0)
-    } else {
-        "n/a (started with zero energy)".into()
-    };
-    println!(
-        "{}: {} particles, {ran} steps (to step {}), {collisions} collisions, {what} {change}, state hash {:016x}",
-        session.title,
-        world.len(),
-        world.step_count(),
-        world.state_hash(),
-    );
-    println!(
-        "time: physics {physics_time:.2} s ({:.1} steps/s), outputs {output_time:.2} s, setup {setup_time:.2} s",
-        ran as f64 / physics_time.max(1e-9),
-    );
-    println!("{time_step}");
-    println!("outputs in {}", args.out.display());
-    if reached {
-        return Ok(Outcome::Finished);
+    report.print(args, world);
+    Ok(report.outcome(args, world, reached, &stop))
+}
+
+/// What `bounce run` says at the end of a run (one process or many).
+pub(crate) struct Report<'a> {
+    pub title: &'a str,
+    /// Steps taken in this run.
+    pub ran: u64,
+    /// The step the run ends at.
+    pub total: u64,
+    pub collisions: usize,
+    pub energy_start: f64,
+    pub physics_time: f64,
+    pub output_time: f64,
+    pub setup_time: f64,
+    pub time_step: String,
+}
+
+impl Report<'_> {
+    /// The summary: particles, steps, collisions, the energy's drift, the state hash, times.
+    pub(crate) fn print(&self, args: &RunArgs, world: &World) {
+        let energy_end = mechanical_energy(world);
+        let what = if world.config().gravity == [0.0, 0.0] {
+            "relative energy change"
+        } else {
+            "relative change of kinetic + potential energy"
+        };
+        let change = if self.energy_start != 0.0 {
+            format!("{:+.3e}", energy_end / self.energy_start - 1.0)
+        } else {
+            "n/a (started with zero energy)".into()
+        };
+        println!(
+            "{}: {} particles, {} steps (to step {}), {} collisions, {what} {change}, state hash {:016x}",
+            self.title,
+            world.len(),
+            self.ran,
+            world.step_count(),
+            self.collisions,
+            world.state_hash(),
+        );
+        println!(
+            "time: physics {:.2} s ({:.1} steps/s), outputs {:.2} s, setup {:.2} s",
+            self.physics_time,
+            self.ran as f64 / self.physics_time.max(1e-9),
+            self.output_time,
+            self.setup_time,
+        );
+        println!("{}", self.time_step);
+        println!("outputs in {}", args.out.display());
     }
-    let signal = stop.load(Ordering::SeqCst) as i32;
-    eprintln!(
-        "interrupted by signal {signal} at step {} of {total}; continue with: bounce run {} --out {} --resume {}",
-        world.step_count(),
-        args.scenario.display(),
-        args.out.display(),
-        args.out.join("checkpoint.bin").display()
-    );
-    Ok(Outcome::Stopped(signal))
+
+    /// Finished, or stopped by the stored signal (with how to continue).
+    pub(crate) fn outcome(
+        &self,
+        args: &RunArgs,
+        world: &World,
+        reached: bool,
+        stop: &AtomicUsize,
+    ) -> Outcome {
+        if reached {
+            return Outcome::Finished;
+        }
+        let signal = stop.load(Ordering::SeqCst) as i32;
+        eprintln!(
+            "interrupted by signal {signal} at step {} of {}; continue with: bounce run {} --out {} --resume {}",
+            world.step_count(),
+            self.total,
+            args.scenario.display(),
+            args.out.display(),
+            args.out.join("checkpoint.bin").display()
+        );
+        Outcome::Stopped(signal)
+    }
 }
 
 /// Kinetic plus potential energy (the potential is zero without gravity).
-fn mechanical_energy(world: &World) -> f64 {
+pub(crate) fn mechanical_energy(world: &World) -> f64 {
     bounce_scenario::analysis::motion_sums(world).0
         + bounce_scenario::analysis::potential_energy(world)
 }
@@ -223,7 +272,7 @@ fn overflowed(
 
 /// Creates the folder; refuses one holding another run's files unless resuming or `force`
 /// (which clears them); removes temporary files a killed run left.
-fn prepare_out_dir(out: &Path, resume: bool, force: bool) -> Result<()> {
+pub(crate) fn prepare_out_dir(out: &Path, resume: bool, force: bool) -> Result<()> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create the output directory {}", out.display()))?;
     let frames = out.join("frames");
@@ -266,7 +315,7 @@ fn prepare_out_dir(out: &Path, resume: bool, force: bool) -> Result<()> {
     Ok(())
 }
 
-fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
+pub(crate) fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
     if quiet || !std::io::stderr().is_terminal() {
         return ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
     }
@@ -279,9 +328,9 @@ fn progress_bar(steps: u64, quiet: bool) -> ProgressBar {
 }
 
 /// When each output is due.
-struct Schedule {
-    total: u64,
-    output: bounce_scenario::OutputSpec,
+pub(crate) struct Schedule {
+    pub total: u64,
+    pub output: bounce_scenario::OutputSpec,
 }
 
 /// On the schedule of an output written every `every` steps (and at step 0).
@@ -299,14 +348,24 @@ impl Schedule {
     fn due(&self, every: u64, step: u64) -> bool {
         self.on(every, step) || step == self.total
     }
+
+    /// Whether any output (or a checkpoint) is written at `step`.
+    pub(crate) fn any_due(&self, step: u64) -> bool {
+        let o = &self.output;
+        [o.stats_every, o.frame_every, o.gsd_every]
+            .into_iter()
+            .zip([true, o.frame_every > 0, o.gsd_every > 0])
+            .any(|(every, on)| on && self.due(every, step))
+            || (o.checkpoint_every > 0 && step > 0 && self.on(o.checkpoint_every, step))
+    }
 }
 
 /// The files a run writes, opened at the start and completed at the end.
-struct Outputs {
-    schedule: Schedule,
+pub(crate) struct Outputs {
+    pub schedule: Schedule,
     dir: PathBuf,
     dt: f64,
-    stats: StatsCsv,
+    pub stats: StatsCsv,
     painter: Option<Painter>,
     /// The GIF, built as frames are painted; `None` when resumed (then redrawn from the
     /// frame files at the end).
@@ -323,7 +382,7 @@ struct Outputs {
 }
 
 impl Outputs {
-    fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
+    pub(crate) fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
         let world = &session.world;
         let total_mass = bounce_scenario::analysis::total_mass(world);
         let gsd = if schedule.output.gsd_every > 0 {
@@ -351,7 +410,12 @@ impl Outputs {
     }
 
     /// Continues the outputs in `dir` from the world's step (a checkpoint's).
-    fn resume(session: &Session, dir: &Path, schedule: Schedule, run: RunState) -> Result<Self> {
+    pub(crate) fn resume(
+        session: &Session,
+        dir: &Path,
+        schedule: Schedule,
+        run: RunState,
+    ) -> Result<Self> {
         let world = &session.world;
         let k = world.step_count();
         let total_mass = bounce_scenario::analysis::total_mass(world);
@@ -487,13 +551,13 @@ impl Outputs {
     }
 
     /// Writes what is due at the world's current step.
-    fn record(&mut self, world: &World) -> Result<()> {
+    pub(crate) fn record(&mut self, world: &World) -> Result<()> {
         self.write(world, false)
     }
 
     /// Completes every file; `stopped`: the run ends before its last step, which is then
     /// written everywhere.
-    fn finish(mut self, world: &World, stopped: bool) -> Result<()> {
+    pub(crate) fn finish(mut self, world: &World, stopped: bool) -> Result<()> {
         // The checkpoint keeps the totals as the schedule has them, before the extra row.
         let totals = self.stats.totals.checkpoint();
         if stopped {

@@ -1,0 +1,894 @@
+//! `mpirun -np R bounce run SCENARIO --out DIR` (cargo feature `mpi`): one world across R
+//! ranks, with the same bits as one process, for any R.
+//!
+//! **Decomposition.** The box is cut across y into R slabs holding about as many discs each
+//! (a histogram of the discs' heights summed over the ranks, so a pile at the bottom of a
+//! box gets thin slabs there), recomputed whenever discs are redistributed. A rank *owns*
+//! the discs whose (wrapped) height is in its slab and holds copies, *ghosts*, of every disc
+//! within a ghost width of it.
+//!
+//! **One exchange per step.** Each rank steps its discs and ghosts as one `World` part
+//! (`bounce::World::part`). A disc's new state depends only on the discs its step's chains
+//! of contacts reach: in one solver pass a disc meets the discs of one order block and its
+//! ring (4 × 4 order cells) in each of 4 colour phases, so a chain reaches at most 13 order
+//! cells (`c`, 1.01 times the largest collision distance) per pass, plus what the discs move
+//! in the step. With the ghost width at least that reach for every substep and pass, the
+//! owned discs come out exactly as in one process; the ghosts near the edge come out wrong
+//! and are overwritten by their owners' states after every step (4 words each). So the
+//! resolution's colour phases need no message of their own: each rank recomputes the ghost
+//! layer instead (a few order cells of extra work against 4 × passes × substeps latencies).
+//!
+//! **Redistribution.** Owners keep their discs until one has drifted far enough that the
+//! ghost width no longer covers the reach (`G − 2 (drift + step) < reach`); then every
+//! owner sends each disc it owns to the ranks that should hold it under new cuts.
+//!
+//! **Same sums.** Each part counts the contacts and wall hits in its slab
+//! (`bounce::World::set_tally`), summed exactly (`bounce::ExactSum`); the ranks add their
+//! sums' lanes. The largest radius sizes every part's order grid. Energies, momenta and
+//! pressures in files are summed in id order on rank 0 from the gathered world. So
+//! `stats.csv`, the GSD and the state hash equal one process's, byte for byte.
+//!
+//! **Outputs and failure.** Rank 0 gathers the discs when an output is due and writes it like
+//! `bounce run` (atomically); checkpoints hold the whole world, so they resume with any R or
+//! none. An error every rank meets (a bad scenario) is reported once and every rank exits
+//! with 1; an error or a panic on one rank prints it and aborts the job (`MPI_Abort`).
+//! `BOUNCE_MPI_PANIC_AT=RANK:STEP` makes rank RANK panic after step STEP (for the tests).
+//!
+//! Not yet across ranks: obstacles, emitters and sinks (refused with a message).
+
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow, bail};
+use bounce::{
+    Boundary, DiscRecord, ExactSum, ParticleId, StepStats, Tally, WallImpulse, World,
+    wrap_coordinate,
+};
+use bounce_scenario::Session;
+use mpi::Count;
+use mpi::collective::SystemOperation;
+use mpi::datatype::{Partition, PartitionMut};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+use crate::checkpoint;
+use crate::run::{
+    Outcome, Outputs, Report, RunArgs, Schedule, mechanical_energy, prepare_out_dir, progress_bar,
+};
+
+/// Height bins of the histogram the cuts are taken from.
+const BINS: usize = 4096;
+/// Order-grid cells a contact chain can cross in one solver pass (4 colour phases, each
+/// within one block and its ring: 3 cells, plus the cell a disc sits in).
+const CELLS_PER_PASS: f64 = 13.0;
+/// Exact sums a step reduces: the virial and the four walls.
+const SUMS: usize = 5;
+
+/// Whether an MPI launcher (Open MPI's `mpirun`, or a PMI one) started this process.
+pub fn launched() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
+}
+
+/// Threads per rank when none are asked for: the cores shared among this node's ranks.
+pub fn default_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let local: usize = std::env::var("OMPI_COMM_WORLD_LOCAL_SIZE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
+    (cores / local.max(1)).max(1)
+}
+
+/// A failure: either every rank met it (reported once, all exit) or this rank alone.
+enum Failure {
+    Agreed,
+    Alone(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Alone(e)
+    }
+}
+
+/// Runs `bounce run` across the ranks of `mpirun`.
+pub fn main(args: &RunArgs, stop: Arc<AtomicUsize>) -> ExitCode {
+    let Some(universe) = mpi::initialize() else {
+        eprintln!("error: MPI was already initialised");
+        return ExitCode::FAILURE;
+    };
+    let comm = universe.world();
+    let rank = comm.rank();
+    // A panic on one rank must not leave the others waiting in a collective forever.
+    std::panic::set_hook(Box::new(move |info| {
+        eprintln!("error: rank {rank} panicked: {info}");
+        // SAFETY: aborting the job is always allowed; nothing is used afterwards.
+        unsafe {
+            mpi::ffi::MPI_Abort(mpi::ffi::RSMPI_COMM_WORLD, 101);
+        }
+        std::process::abort();
+    }));
+    match run(&comm, args, stop) {
+        Ok(Outcome::Finished) => ExitCode::SUCCESS,
+        Ok(Outcome::Stopped(signal)) => ExitCode::from((128 + signal.clamp(0, 127)) as u8),
+        Err(Failure::Agreed) => ExitCode::FAILURE,
+        Err(Failure::Alone(e)) => {
+            for line in format!("{e:#}").lines() {
+                eprintln!("error: rank {rank}: {line}");
+            }
+            comm.abort(1)
+        }
+    }
+}
+
+/// Every rank's outcome of the same phase: `Ok` on all, or the lowest failing rank prints
+/// its error and all return [`Failure::Agreed`].
+fn agree<T>(comm: &SimpleCommunicator, result: Result<T>) -> Result<T, Failure> {
+    let size = comm.size();
+    let mine = if result.is_err() { comm.rank() } else { size };
+    let mut first = size;
+    comm.all_reduce_into(&mine, &mut first, SystemOperation::min());
+    match result {
+        Ok(v) if first == size => Ok(v),
+        Ok(_) => Err(Failure::Agreed),
+        Err(e) => {
+            if comm.rank() == first {
+                for line in format!("{e:#}").lines() {
+                    eprintln!("error: {line}");
+                }
+            }
+            Err(Failure::Agreed)
+        }
+    }
+}
+
+/// What the distributed run refuses, with the reason.
+fn check_supported(session: &Session) -> Result<()> {
+    let config = session.world.config();
+    let refused = [
+        (!config.obstacles.is_empty(), "[[obstacle]]"),
+        (!config.emitters.is_empty(), "[[emitter]]"),
+        (!config.sinks.is_empty(), "[[sink]]"),
+    ];
+    for (present, what) in refused {
+        if present {
+            bail!(
+                "{}: {what} is not supported across MPI ranks yet; run it without mpirun",
+                session.origin
+            );
+        }
+    }
+    Ok(())
+}
+
+fn run(
+    comm: &SimpleCommunicator,
+    args: &RunArgs,
+    stop: Arc<AtomicUsize>,
+) -> Result<Outcome, Failure> {
+    let setup = Instant::now();
+    let root = comm.rank() == 0;
+    // Every rank builds the scenario (deterministic) and, resuming, loads the checkpoint.
+    let loaded = (|| -> Result<_> {
+        let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
+        check_supported(&session)?;
+        let mut run_state = None;
+        if let Some(path) = &args.resume {
+            let loaded = checkpoint::load(path)?;
+            session
+                .resume(loaded.world, &path.display().to_string())
+                .map_err(|e| anyhow!(e))?;
+            run_state = Some(loaded.run.unwrap_or_default());
+        }
+        let total = args.steps.unwrap_or(session.steps);
+        let start = session.world.step_count();
+        if start >= total {
+            bail!(
+                "nothing to do: the world is at step {start} and the run ends at step {total} (use --steps)"
+            );
+        }
+        Ok((session, run_state, total))
+    })();
+    let (session, run_state, total) = agree(comm, loaded)?;
+    let schedule = || Schedule {
+        total,
+        output: session.output.clone(),
+    };
+    // Rank 0 alone writes.
+    let outputs = if root {
+        (|| -> Result<_> {
+            prepare_out_dir(&args.out, args.resume.is_some(), args.force)?;
+            Ok(Some(match run_state {
+                Some(run) => Outputs::resume(&session, &args.out, schedule(), run)?,
+                None => {
+                    let mut outputs = Outputs::create(&session, &args.out, schedule())?;
+                    outputs.record(&session.world)?;
+                    outputs
+                }
+            }))
+        })()
+    } else {
+        Ok(None)
+    };
+    let mut outputs = agree(comm, outputs)?;
+    let schedule = schedule();
+    let energy_start = mechanical_energy(&session.world);
+    let time_step = session.time_step_report().to_string();
+    let start_step = session.world.step_count();
+    let dt = session.dt;
+
+    let mut ranks = Ranks::new(comm, &session.world, args.threads, dt)?;
+    let setup_time = setup.elapsed().as_secs_f64();
+    let progress = progress_bar(total - start_step, args.quiet || !root);
+    let clock = Instant::now();
+    let mut output_time = 0.0;
+    let mut collisions = 0usize;
+    let panic_at = panic_at();
+    let mut stopped = false;
+    while ranks.part.world.step_count() < total {
+        let stats = ranks.step(stop.load(Ordering::SeqCst))?;
+        let step = ranks.part.world.step_count();
+        if panic_at == Some((comm.rank(), step)) {
+            panic!("BOUNCE_MPI_PANIC_AT asked for a panic after step {step}");
+        }
+        collisions += stats.pairs;
+        let stop_now = ranks.stop != 0 && step < total;
+        if stop_now {
+            // Every rank ends as the first one stopped says.
+            stop.store(ranks.stop, Ordering::SeqCst);
+        }
+        let t = Instant::now();
+        if let Some(outputs) = &mut outputs {
+            outputs.stats.totals.add(&stats, &ranks.part.world, dt);
+        }
+        if schedule.any_due(step) {
+            let whole = ranks.gather(&stats)?;
+            if let (Some(outputs), Some(whole)) = (&mut outputs, whole) {
+                outputs.record(&whole)?;
+            }
+        }
+        output_time += t.elapsed().as_secs_f64();
+        progress.inc(1);
+        if stop_now {
+            stopped = true;
+            break;
+        }
+    }
+    progress.finish_and_clear();
+    let physics_time = (clock.elapsed().as_secs_f64() - output_time).max(0.0);
+    let last = ranks.last_stats;
+    let whole = ranks.gather(&last)?;
+    let traffic = ranks.traffic();
+    let Some((outputs, whole)) = outputs.zip(whole) else {
+        return Ok(if stopped {
+            Outcome::Stopped(stop.load(Ordering::SeqCst) as i32)
+        } else {
+            Outcome::Finished
+        });
+    };
+    let t = Instant::now();
+    outputs.finish(&whole, stopped)?;
+    output_time += t.elapsed().as_secs_f64();
+    let report = Report {
+        title: &session.title,
+        ran: whole.step_count() - start_step,
+        total,
+        collisions,
+        energy_start,
+        physics_time,
+        output_time,
+        setup_time,
+        time_step,
+    };
+    report.print(args, &whole);
+    println!("{traffic}");
+    Ok(report.outcome(args, &whole, !stopped, &stop))
+}
+
+/// `BOUNCE_MPI_PANIC_AT=RANK:STEP`.
+fn panic_at() -> Option<(i32, u64)> {
+    let v = std::env::var("BOUNCE_MPI_PANIC_AT").ok()?;
+    let (rank, step) = v.split_once(':')?;
+    Some((rank.parse().ok()?, step.parse().ok()?))
+}
+
+/// The slabs: rank `k` owns the (wrapped) heights in `[cuts[k], cuts[k + 1])`; the first and
+/// last cuts are infinite.
+#[derive(Clone, Debug, PartialEq)]
+struct Slabs {
+    cuts: Vec<f64>,
+    /// `(min, size)` of a periodic box along y.
+    period: Option<(f64, f64)>,
+}
+
+impl Slabs {
+    fn ranks(&self) -> usize {
+        self.cuts.len() - 1
+    }
+
+    fn wrapped(&self, y: f64) -> f64 {
+        match self.period {
+            Some((min, size)) => wrap_coordinate(y, min, size),
+            None => y,
+        }
+    }
+
+    /// The rank owning height `y`.
+    fn owner(&self, y: f64) -> usize {
+        let y = self.wrapped(y);
+        self.cuts[1..self.ranks()].partition_point(|&c| c <= y)
+    }
+
+    /// How far height `y` is from rank `k`'s slab (0 inside), across a periodic box's edge
+    /// too.
+    fn gap(&self, y: f64, k: usize) -> f64 {
+        let y = self.wrapped(y);
+        let (mut a, mut b) = (self.cuts[k], self.cuts[k + 1]);
+        match self.period {
+            Some((min, size)) => {
+                if k == 0 {
+                    a = min;
+                }
+                if k == self.ranks() - 1 {
+                    b = min + size;
+                }
+                if (a <= y && y < b) || (k == 0 && y < a) || (k == self.ranks() - 1 && y >= b) {
+                    0.0
+                } else {
+                    (a - y).rem_euclid(size).min((y - b).rem_euclid(size))
+                }
+            }
+            None if y < a => a - y,
+            None if y >= b => y - b,
+            None => 0.0,
+        }
+    }
+
+    fn tally(&self, k: usize) -> Tally {
+        Tally::new(self.cuts[k], self.cuts[k + 1], self.period)
+    }
+}
+
+/// This rank's part of the world and who it exchanges with.
+struct Part {
+    world: World,
+    /// The discs this rank owns, ascending, with their heights when they were distributed.
+    owned: Vec<(ParticleId, f64)>,
+    /// By id: an owned disc's height when distributed (NaN for the others) and its place
+    /// after the last step. (Tables over all ids: a hash map would serve 10^9 discs.)
+    start_height: Vec<f64>,
+    last_place: Vec<[f64; 2]>,
+    /// Per rank: the owned discs it holds as ghosts (ascending ids).
+    send: Vec<Vec<ParticleId>>,
+    /// Per rank: its discs held here as ghosts (ascending ids).
+    recv: Vec<Vec<ParticleId>>,
+    /// Discs within this of a slab are held by its rank.
+    ghost_width: f64,
+}
+
+/// The run's ranks, seen from one of them.
+struct Ranks<'c> {
+    comm: &'c SimpleCommunicator,
+    part: Part,
+    threads: usize,
+    dt: f64,
+    /// The largest radius anywhere: every part's order grid is sized for it.
+    max_radius: f64,
+    /// The whole world's fastest disc (squared speed) and smallest radius after the last
+    /// step: what adaptive substeps need.
+    max_speed2: f64,
+    min_radius: f64,
+    /// The largest distance an owned disc moved in the last step, over all ranks.
+    stride: f64,
+    /// The signal any rank was stopped by (0: none).
+    stop: usize,
+    last_stats: StepStats,
+    /// Bytes this rank sent: ghost states, redistributions, reductions, gathers; steps.
+    sent: [u64; 4],
+    steps: u64,
+    redistributions: u64,
+}
+
+impl<'c> Ranks<'c> {
+    /// Every rank starts from the whole world (built from the scenario or a checkpoint)
+    /// and keeps its part.
+    fn new(comm: &'c SimpleCommunicator, whole: &World, threads: usize, dt: f64) -> Result<Self> {
+        let p = whole.particles();
+        let max_radius = p.radius().iter().copied().fold(0.0, f64::max);
+        let max_speed2 = (0..p.len())
+            .map(|i| p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i])
+            .fold(0.0, f64::max);
+        let min_radius = p.radius().iter().copied().fold(f64::INFINITY, f64::min);
+        let mut ranks = Ranks {
+            comm,
+            part: Part {
+                world: whole.part(&[])?,
+                owned: Vec::new(),
+                start_height: Vec::new(),
+                last_place: Vec::new(),
+                send: Vec::new(),
+                recv: Vec::new(),
+                ghost_width: 0.0,
+            },
+            threads,
+            dt,
+            max_radius,
+            max_speed2,
+            min_radius,
+            stride: 0.0,
+            stop: 0,
+            last_stats: *whole.stats(),
+            sent: [0; 4],
+            steps: 0,
+            redistributions: 0,
+        };
+        // Every rank holds every disc now: each takes its own share without messages.
+        let all: Vec<DiscRecord> = whole
+            .in_id_order()
+            .into_iter()
+            .map(|(_, i)| whole.record(i))
+            .collect();
+        let ys: Vec<f64> = all.iter().map(|r| r.position[1]).collect();
+        let slabs = ranks.cut(&ys, true);
+        ranks.part = ranks.build(whole, slabs, &all)?;
+        Ok(ranks)
+    }
+
+    fn size(&self) -> usize {
+        self.comm.size() as usize
+    }
+
+    /// The reach of one step's chains of contacts (see the module docs), with the distance a
+    /// disc may move in it.
+    fn reach(&self) -> f64 {
+        let config = self.part.world.config();
+        let law = bounce::law::Law::new(config);
+        let cell = law.reach(1.01 * 2.0 * self.max_radius);
+        let substeps = self.substeps() as f64;
+        let passes = f64::from(config.solver_iterations);
+        let [gx, gy] = config.gravity;
+        let fall = (gx * gx + gy * gy).sqrt() * self.dt;
+        let step = 2.0 * (self.stride.max((self.max_speed2.sqrt() + fall) * self.dt)) + cell;
+        substeps * passes * (CELLS_PER_PASS * cell + 2.0 * step) + 2.0 * step
+    }
+
+    fn substeps(&self) -> u32 {
+        self.part
+            .world
+            .substeps_for_extremes(self.dt, self.max_speed2, self.min_radius)
+    }
+
+    /// Cuts across y with about as many of `ys` (this rank's owned heights; with `everyone`,
+    /// every disc, which every rank holds) in each slab.
+    fn cut(&self, ys: &[f64], everyone: bool) -> Slabs {
+        let size = self.size();
+        let period = match self.part.world.config().boundary {
+            Boundary::Periodic { min, max } => Some((min[1], max[1] - min[1])),
+            _ => None,
+        };
+        let mut slabs = Slabs {
+            cuts: vec![f64::NEG_INFINITY; size + 1],
+            period,
+        };
+        slabs.cuts[size] = f64::INFINITY;
+        if size == 1 {
+            return slabs;
+        }
+        let wrapped: Vec<f64> = ys.iter().map(|&y| slabs.wrapped(y)).collect();
+        // The histogram's range: the box, or where the discs are.
+        let (lo, hi) = match self.part.world.config().boundary.bounds() {
+            Some((min, max)) => (min[1], max[1]),
+            None => {
+                let mut ends = [
+                    -wrapped.iter().copied().fold(f64::INFINITY, f64::min),
+                    wrapped.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                ];
+                if !everyone {
+                    let mine = ends;
+                    self.comm
+                        .all_reduce_into(&mine[..], &mut ends[..], SystemOperation::max());
+                }
+                (-ends[0], ends[1])
+            }
+        };
+        let width = ((hi - lo) / BINS as f64).max(f64::MIN_POSITIVE);
+        let mut counts = vec![0u64; BINS];
+        for &y in &wrapped {
+            let bin = ((y - lo) / width).floor();
+            counts[(bin.max(0.0) as usize).min(BINS - 1)] += 1;
+        }
+        if !everyone {
+            let mine = counts.clone();
+            self.comm
+                .all_reduce_into(&mine[..], &mut counts[..], SystemOperation::sum());
+        }
+        let n: u64 = counts.iter().sum();
+        let mut below = 0u64;
+        let mut k = 1;
+        for (bin, &c) in counts.iter().enumerate() {
+            below += c;
+            while k < size && below * size as u64 >= n * k as u64 {
+                slabs.cuts[k] = lo + (bin + 1) as f64 * width;
+                k += 1;
+            }
+        }
+        for cut in &mut slabs.cuts[k..size] {
+            *cut = hi;
+        }
+        slabs
+    }
+
+    /// This rank's part from `records` (every disc it must hold, and perhaps more), cut by
+    /// `slabs`, with clock and statistics from `clock`.
+    fn build(&self, clock: &World, slabs: Slabs, records: &[DiscRecord]) -> Result<Part> {
+        let me = self.comm.rank() as usize;
+        let size = self.size();
+        let ghost_width = if size == 1 { 0.0 } else { self.ghost_width() };
+        let mut held = Vec::new();
+        let mut owned = Vec::new();
+        let mut send = vec![Vec::new(); size];
+        let mut recv = vec![Vec::new(); size];
+        for r in records {
+            let y = r.position[1];
+            let owner = slabs.owner(y);
+            if owner == me {
+                owned.push((r.id, y));
+                held.push(*r);
+                for (k, list) in send.iter_mut().enumerate() {
+                    if k != me && slabs.gap(y, k) < ghost_width {
+                        list.push(r.id);
+                    }
+                }
+            } else if slabs.gap(y, me) < ghost_width {
+                recv[owner].push(r.id);
+                held.push(*r);
+            }
+        }
+        held.sort_unstable_by_key(|r| r.id);
+        owned.sort_unstable_by_key(|o| o.0);
+        for list in send.iter_mut().chain(recv.iter_mut()) {
+            list.sort_unstable();
+        }
+        let ids = clock.next_id() as usize;
+        let mut start_height = vec![f64::NAN; ids];
+        let mut last_place = vec![[f64::NAN; 2]; ids];
+        for r in &held {
+            if slabs.owner(r.position[1]) == me {
+                start_height[r.id.0 as usize] = r.position[1];
+                last_place[r.id.0 as usize] = r.position;
+            }
+        }
+        let mut world = clock.part(&held)?;
+        world.set_threads(self.threads)?;
+        world.set_order_radius(self.max_radius);
+        world.set_tally((size > 1).then(|| slabs.tally(me)));
+        Ok(Part {
+            world,
+            owned,
+            start_height,
+            last_place,
+            send,
+            recv,
+            ghost_width,
+        })
+    }
+
+    /// Discs within this of a slab are held by its rank: the reach, and room for the owners
+    /// to drift two order cells each way before a redistribution.
+    fn ghost_width(&self) -> f64 {
+        let law = bounce::law::Law::new(self.part.world.config());
+        self.reach() + 4.0 * law.reach(1.01 * 2.0 * self.max_radius)
+    }
+
+    /// One step of the whole world; returns its statistics (the same on every rank).
+    /// `stop` is the signal this rank received (0: none); `self.stop` becomes the largest
+    /// any rank received.
+    fn step(&mut self, stop: usize) -> Result<StepStats, Failure> {
+        let substeps = self.substeps();
+        let part = &mut self.part;
+        let stepped = part.world.step_with_substeps(self.dt, substeps).map(|s| *s);
+        // Over the owned discs: drift since distribution (in y), this step's stride, the
+        // fastest speed and the smallest radius.
+        let world = &part.world;
+        let p = world.particles();
+        let period = |axis: usize| match world.config().boundary {
+            Boundary::Periodic { min, max } => Some(max[axis] - min[axis]),
+            _ => None,
+        };
+        let nearest = |d: f64, size: Option<f64>| size.map_or(d, |l| d - l * (d / l).round());
+        let (wx, wy) = (period(0), period(1));
+        let (mut drift, mut stride, mut speed2, mut radius) =
+            (0.0f64, 0.0f64, 0.0f64, f64::INFINITY);
+        for i in 0..p.len() {
+            let id = p.ids()[i].0 as usize;
+            let y0 = part.start_height[id];
+            if y0.is_nan() {
+                continue;
+            }
+            let (x, y) = (p.x()[i], p.y()[i]);
+            let [x1, y1] = part.last_place[id];
+            part.last_place[id] = [x, y];
+            drift = drift.max(nearest(y - y0, wy).abs());
+            stride = stride.max(nearest(x - x1, wx).hypot(nearest(y - y1, wy)));
+            speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
+            radius = radius.min(p.radius()[i]);
+        }
+        let stats = stepped.as_ref().ok().copied().unwrap_or_default();
+        let flags = [
+            f64::from(u8::from(stepped.is_err())),
+            stop as f64,
+            drift,
+            stride,
+            stats.max_overlap,
+            speed2,
+            -radius,
+        ];
+        let mut all = [0.0; 7];
+        self.comm
+            .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
+        // The step's sums: pairs and the exact sums' lanes (integers), then their
+        // non-finite parts.
+        let sums = world.step_sums();
+        let exact = [
+            &sums.virial,
+            &sums.walls.walls[0],
+            &sums.walls.walls[1],
+            &sums.walls.walls[2],
+            &sums.walls.walls[3],
+        ];
+        let mut lanes = vec![stats.pairs as i64];
+        let mut special = [0.0; SUMS];
+        for (k, sum) in exact.iter().enumerate() {
+            let words = sum.to_words();
+            lanes.extend_from_slice(&words[..ExactSum::WORDS - 1]);
+            special[k] = f64::from_bits(words[ExactSum::WORDS - 1] as u64);
+        }
+        let mut lanes_all = vec![0i64; lanes.len()];
+        self.comm
+            .all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
+        let mut special_all = [0.0; SUMS];
+        self.comm
+            .all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
+        self.sent[2] += ((flags.len() + lanes.len() + special.len()) * 8) as u64;
+        self.steps += 1;
+
+        if all[0] > 0.0 {
+            let failed = stepped.err().map(|e| anyhow!(e));
+            let failed = failed.map_or(Ok(()), Err);
+            return Err(match agree(self.comm, failed) {
+                Err(f) => f,
+                Ok(()) => Failure::Agreed,
+            });
+        }
+        self.stop = all[1] as usize;
+        self.stride = all[3];
+        self.max_speed2 = all[5];
+        self.min_radius = -all[6];
+        let value = |k: usize| {
+            let at = 1 + k * (ExactSum::WORDS - 1);
+            ExactSum::from_words(&lanes_all[at..at + ExactSum::WORDS - 1], special_all[k]).value()
+        };
+        let merged = StepStats {
+            pairs: lanes_all[0] as usize,
+            max_overlap: all[4],
+            virial: 0.5 * value(0) / self.dt,
+            wall_impulse: WallImpulse {
+                left: value(1),
+                right: value(2),
+                bottom: value(3),
+                top: value(4),
+            },
+            substeps,
+            ..stats
+        };
+        self.last_stats = merged;
+
+        // Redistribute when the owners have drifted too far for the ghost width, else
+        // refresh the ghosts.
+        let part = &self.part;
+        let size = self.size();
+        if size > 1 && part.ghost_width - 2.0 * (all[2] + all[3]) < self.reach() {
+            self.redistribute()?;
+        } else if size > 1 {
+            self.refresh()?;
+        }
+        Ok(merged)
+    }
+
+    /// Owners send their discs' states to the ranks holding them as ghosts.
+    fn refresh(&mut self) -> Result<()> {
+        let part = &self.part;
+        let world = &part.world;
+        let p = world.particles();
+        let outgoing: Vec<Vec<f64>> = part
+            .send
+            .iter()
+            .map(|ids| {
+                let mut words = Vec::with_capacity(4 * ids.len());
+                for id in ids {
+                    let i = world.index_of(*id).expect("owned discs are held");
+                    words.extend([p.x()[i], p.y()[i], p.vx()[i], p.vy()[i]]);
+                }
+                words
+            })
+            .collect();
+        self.sent[0] += outgoing.iter().map(|w| w.len() as u64 * 8).sum::<u64>();
+        let incoming = exchange(self.comm, &outgoing);
+        let mut states = Vec::new();
+        for (ids, words) in self.part.recv.iter().zip(&incoming) {
+            if words.len() != 4 * ids.len() {
+                bail!(
+                    "ghost exchange: expected {} states, got {}",
+                    ids.len(),
+                    words.len() / 4
+                );
+            }
+            for (id, w) in ids.iter().zip(words.chunks_exact(4)) {
+                states.push((*id, [w[0], w[1], w[2], w[3]]));
+            }
+        }
+        self.part.world.overwrite(&states)?;
+        Ok(())
+    }
+
+    /// New cuts from where the discs are; every owner sends each of its discs to the ranks
+    /// that hold it under them.
+    fn redistribute(&mut self) -> Result<()> {
+        let world = &self.part.world;
+        let mine: Vec<DiscRecord> = self
+            .part
+            .owned
+            .iter()
+            .map(|(id, _)| world.record(world.index_of(*id).expect("owned discs are held")))
+            .collect();
+        let ys: Vec<f64> = mine.iter().map(|r| r.position[1]).collect();
+        let slabs = self.cut(&ys, false);
+        let ghost_width = self.ghost_width();
+        let size = self.size();
+        let mut outgoing = vec![Vec::new(); size];
+        for r in &mine {
+            for (k, words) in outgoing.iter_mut().enumerate() {
+                if slabs.gap(r.position[1], k) < ghost_width {
+                    words.extend(r.to_words());
+                }
+            }
+        }
+        self.sent[1] += outgoing.iter().map(|w| w.len() as u64 * 8).sum::<u64>();
+        let incoming = exchange(self.comm, &outgoing);
+        let records: Vec<DiscRecord> = incoming
+            .iter()
+            .flat_map(|w| {
+                w.chunks_exact(DiscRecord::WORDS)
+                    .map(DiscRecord::from_words)
+            })
+            .collect();
+        self.part = self.build(&self.part.world, slabs, &records)?;
+        self.redistributions += 1;
+        Ok(())
+    }
+
+    /// The whole world on rank 0 (its discs gathered from their owners), reporting `stats`;
+    /// `None` on the other ranks.
+    fn gather(&mut self, stats: &StepStats) -> Result<Option<World>> {
+        let world = &self.part.world;
+        let words: Vec<f64> = self
+            .part
+            .owned
+            .iter()
+            .flat_map(|(id, _)| world.record(world.index_of(*id).expect("held")).to_words())
+            .collect();
+        let root = self.comm.process_at_rank(0);
+        let count = words.len() as Count;
+        self.sent[3] += words.len() as u64 * 8;
+        if self.comm.rank() != 0 {
+            root.gather_into(&count);
+            root.gather_varcount_into(&words[..]);
+            return Ok(None);
+        }
+        let mut counts = vec![0 as Count; self.size()];
+        root.gather_into_root(&count, &mut counts[..]);
+        let displs = displacements(&counts);
+        let mut all = vec![0.0; counts.iter().map(|&c| c as usize).sum()];
+        {
+            let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+            root.gather_varcount_into_root(&words[..], &mut partition);
+        }
+        let mut records: Vec<DiscRecord> = all
+            .chunks_exact(DiscRecord::WORDS)
+            .map(DiscRecord::from_words)
+            .collect();
+        records.sort_unstable_by_key(|r| r.id);
+        let mut whole = world.part(&records).context("assembling the whole world")?;
+        let (energy, momentum) = bounce_scenario::analysis::motion_sums(&whole);
+        let mut stats = *stats;
+        (stats.kinetic_energy, stats.momentum) = (energy, momentum);
+        if stats.pressure.is_some() {
+            stats.pressure = whole.pressure(energy, momentum, stats.virial);
+        }
+        whole.set_reported_stats(stats);
+        Ok(Some(whole))
+    }
+
+    /// Bytes sent per rank per step (means over the ranks), and how often discs moved.
+    fn traffic(&self) -> String {
+        let mine: Vec<f64> = self.sent.iter().map(|&b| b as f64).collect();
+        let mut all = vec![0.0; mine.len()];
+        self.comm
+            .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
+        let per = |k: usize| all[k] / (self.size() as f64 * self.steps.max(1) as f64);
+        let owned = self.part.owned.len();
+        let held = self.part.world.len();
+        format!(
+            "mpi: {} ranks; bytes sent per rank per step: ghost states {:.0}, redistributions {:.0} ({} times), reductions {:.0}, outputs {:.0}; rank 0 holds {owned} discs and {} ghosts",
+            self.size(),
+            per(0),
+            per(1),
+            self.redistributions,
+            per(2),
+            per(3),
+            held - owned,
+        )
+    }
+}
+
+fn displacements(counts: &[Count]) -> Vec<Count> {
+    counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let at = *acc;
+            *acc += c;
+            Some(at)
+        })
+        .collect()
+}
+
+/// Sends `outgoing[k]` to rank `k`; returns what each rank sent here.
+fn exchange(comm: &SimpleCommunicator, outgoing: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let send_counts: Vec<Count> = outgoing.iter().map(|w| w.len() as Count).collect();
+    let mut recv_counts = vec![0 as Count; outgoing.len()];
+    comm.all_to_all_into(&send_counts[..], &mut recv_counts[..]);
+    let send: Vec<f64> = outgoing.concat();
+    let (send_displs, recv_displs) = (displacements(&send_counts), displacements(&recv_counts));
+    let mut recv = vec![0.0; recv_counts.iter().map(|&c| c as usize).sum()];
+    {
+        let partition = Partition::new(&send[..], &send_counts[..], &send_displs[..]);
+        let mut into = PartitionMut::new(&mut recv[..], &recv_counts[..], &recv_displs[..]);
+        comm.all_to_all_varcount_into(&partition, &mut into);
+    }
+    recv_displs
+        .iter()
+        .zip(&recv_counts)
+        .map(|(&at, &n)| recv[at as usize..(at + n) as usize].to_vec())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slabs_own_every_height_once_and_measure_gaps_across_a_periodic_edge() {
+        let slabs = Slabs {
+            cuts: vec![f64::NEG_INFINITY, 3.0, 7.0, f64::INFINITY],
+            period: Some((0.0, 10.0)),
+        };
+        assert_eq!(slabs.owner(-0.5), 2); // wraps to 9.5
+        assert_eq!(slabs.owner(3.0), 1);
+        assert_eq!(slabs.owner(12.0), 0);
+        assert_eq!(slabs.gap(5.0, 1), 0.0);
+        assert!((slabs.gap(9.5, 0) - 0.5).abs() < 1e-12, "across the edge");
+        assert!((slabs.gap(2.0, 2) - 2.0).abs() < 1e-12, "across the edge");
+        assert!((slabs.gap(2.0, 1) - 1.0).abs() < 1e-12);
+        let walls = Slabs {
+            cuts: vec![f64::NEG_INFINITY, 3.0, f64::INFINITY],
+            period: None,
+        };
+        assert_eq!(walls.gap(-100.0, 0), 0.0);
+        assert_eq!(walls.gap(1.0, 1), 2.0);
+        assert_eq!(walls.gap(5.0, 0), 2.0);
+    }
+}
