@@ -820,17 +820,19 @@ impl<'c> Ranks<'c> {
         self.comm
             .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
         let per = |k: usize| all[k] / (self.size() as f64 * self.steps.max(1) as f64);
-        let owned = self.part.owned.len();
-        let held = self.part.world.len();
+        let counts = [self.part.owned.len() as u64, self.part.world.len() as u64];
+        let mut all_counts = vec![0u64; 2 * self.size()];
+        self.comm.all_gather_into(&counts[..], &mut all_counts[..]);
+        let owned: Vec<u64> = all_counts.iter().step_by(2).copied().collect();
+        let ghosts: Vec<u64> = all_counts.chunks_exact(2).map(|c| c[1] - c[0]).collect();
         format!(
-            "mpi: {} ranks; bytes sent per rank per step: ghost states {:.0}, redistributions {:.0} ({} times), reductions {:.0}, outputs {:.0}; rank 0 holds {owned} discs and {} ghosts",
+            "mpi: {} ranks; bytes sent per rank per step: ghost states {:.0}, redistributions {:.0} ({} times), reductions {:.0}, outputs {:.0}; discs owned per rank {owned:?}, ghosts {ghosts:?}",
             self.size(),
             per(0),
             per(1),
             self.redistributions,
             per(2),
             per(3),
-            held - owned,
         )
     }
 }

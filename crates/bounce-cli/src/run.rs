@@ -350,6 +350,7 @@ impl Schedule {
     }
 
     /// Whether any output (or a checkpoint) is written at `step`.
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
     pub(crate) fn any_due(&self, step: u64) -> bool {
         let o = &self.output;
         [o.stats_every, o.frame_every, o.gsd_every]

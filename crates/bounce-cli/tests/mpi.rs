@@ -1,0 +1,331 @@
+//! `mpirun -np R bounce run`: the same bits as one process for R = 1..4, checkpoints that
+//! resume with any R, slabs cut by count, and failures that end the whole job.
+//!
+//! Needs Open MPI's `mpirun` (`scripts/test` installs it and turns on the feature `mpi`).
+//! Every `mpirun` runs under `timeout`, so a hang fails the test instead of stalling it.
+#![cfg(feature = "mpi")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BOUNCE: &str = env!("CARGO_BIN_EXE_bounce");
+
+fn scenarios() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios")
+}
+
+/// Outputs that are compared: no pictures (their time is the same with any R, their
+/// drawing is tested elsewhere).
+const QUIET_OUTPUTS: [&str; 6] = [
+    "--set",
+    "output.frame_every=0",
+    "--set",
+    "output.gif=false",
+    "--set",
+    "output.plots=false",
+];
+
+/// `bounce run` (with `ranks`, under `mpirun`) into `out`, with extra arguments.
+fn run(ranks: Option<usize>, scenario: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut command = match ranks {
+        Some(r) => {
+            let mut c = Command::new("timeout");
+            c.args(["300", "mpirun", "-np", &r.to_string(), BOUNCE]);
+            c
+        }
+        None => Command::new(BOUNCE),
+    };
+    command
+        .arg("run")
+        .arg(scenarios().join(scenario))
+        .arg("--out")
+        .arg(out)
+        .args(["-q", "--threads", "1"])
+        .args(QUIET_OUTPUTS)
+        .args(extra)
+        // Open MPI refuses root without these, and more ranks than cores without the last.
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .output()
+        .expect("bounce runs")
+}
+
+fn ok(output: Output, what: &str) -> String {
+    let text = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{what} failed: {}\n{text}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    text
+}
+
+/// The state hash `bounce run` prints.
+fn hash(stdout: &str) -> String {
+    let at = stdout.find("state hash ").expect("a state hash") + "state hash ".len();
+    stdout[at..at + 16].to_string()
+}
+
+/// The `mpi:` line's discs owned per rank and ghosts per rank.
+fn shares(stdout: &str) -> (Vec<u64>, Vec<u64>) {
+    let list = |key: &str| -> Vec<u64> {
+        let at = stdout.find(key).expect(key) + key.len();
+        let end = stdout[at..].find(']').unwrap() + at;
+        stdout[at..end]
+            .split(',')
+            .map(|v| v.trim().parse().unwrap())
+            .collect()
+    };
+    (list("owned per rank ["), list("ghosts ["))
+}
+
+fn same_files(a: &Path, b: &Path, what: &str) {
+    for file in ["stats.csv", "trajectory.gsd"] {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(x == y, "{what}: {file} differs from one process's");
+    }
+}
+
+/// One process, then R = 1..4 ranks: the same `stats.csv`, GSD and state hash; returns the
+/// 4-rank run's shares.
+fn same_bits_for_1_to_4_ranks(scenario: &str, extra: &[&str], what: &str) -> (Vec<u64>, Vec<u64>) {
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one");
+    let reference = hash(&ok(run(None, scenario, &one, extra), what));
+    let mut last = None;
+    for ranks in 1..=4 {
+        let out = dir.path().join(format!("r{ranks}"));
+        let stdout = ok(run(Some(ranks), scenario, &out, extra), what);
+        assert_eq!(
+            hash(&stdout),
+            reference,
+            "{what}: state hash with {ranks} ranks"
+        );
+        same_files(&one, &out, &format!("{what}, {ranks} ranks"));
+        last = Some(shares(&stdout));
+    }
+    last.unwrap()
+}
+
+#[test]
+fn a_gas_in_walls_gives_the_same_bits_on_any_number_of_ranks() {
+    // 6,000 discs of radii 0.3-0.9 in a 200 x 200 box: slabs of 50 with ghost layers
+    // narrower than them, so discs really are owned, copied and handed over.
+    let (owned, ghosts) = same_bits_for_1_to_4_ranks(
+        "gas.toml",
+        &[
+            "--set",
+            "time.steps=150",
+            "--set",
+            "gas.count=6000",
+            "--set",
+            "world.max=[200.0, 200.0]",
+            "--set",
+            "gas.radius=[0.3, 0.9]",
+            "--set",
+            "output.stats_every=5",
+            "--set",
+            "output.gsd_every=25",
+        ],
+        "gas in walls",
+    );
+    assert_eq!(owned.iter().sum::<u64>(), 6000);
+    assert!(
+        ghosts.iter().all(|&g| g > 0 && g < 3000),
+        "ghost layers, not copies of all: {ghosts:?}"
+    );
+}
+
+#[test]
+fn a_periodic_gas_gives_the_same_bits_on_any_number_of_ranks() {
+    // Ghosts across the periodic edge: the first and last slabs are neighbours.
+    let (owned, ghosts) = same_bits_for_1_to_4_ranks(
+        "gas.toml",
+        &[
+            "--set",
+            "world.boundary=periodic",
+            "--set",
+            "time.steps=150",
+            "--set",
+            "gas.count=6000",
+            "--set",
+            "world.max=[200.0, 200.0]",
+            "--set",
+            "gas.radius=[0.3, 0.9]",
+            "--set",
+            "output.gsd_every=25",
+        ],
+        "periodic gas",
+    );
+    assert_eq!(owned.iter().sum::<u64>(), 6000);
+    assert!(ghosts.iter().all(|&g| g > 0 && g < 3000), "{ghosts:?}");
+}
+
+#[test]
+fn a_settling_pile_gives_the_same_bits_on_any_number_of_ranks() {
+    // The shipped pile (4 substeps: every rank's ghost layer spans the box) and a tall one
+    // with one substep whose slabs have real ghost layers, through the fall and the
+    // settling; and with three solver passes (contacts lowest first, walls as contacts).
+    same_bits_for_1_to_4_ranks("pile.toml", &["--set", "time.steps=300"], "pile");
+    let (_, ghosts) = same_bits_for_1_to_4_ranks(
+        "pile.toml",
+        &[
+            "--set",
+            "time.steps=300",
+            "--set",
+            "time.substeps=1",
+            "--set",
+            "gas.count=4000",
+            "--set",
+            "world.max=[80.0, 300.0]",
+            "--set",
+            "gas.region={ min = [0.0, 20.0], max = [80.0, 300.0] }",
+        ],
+        "tall pile",
+    );
+    assert!(ghosts.iter().all(|&g| g < 4000), "{ghosts:?}");
+    same_bits_for_1_to_4_ranks(
+        "pile.toml",
+        &[
+            "--set",
+            "time.steps=120",
+            "--set",
+            "world.solver_iterations=3",
+            "--set",
+            "world.restitution_model=relative_normal_velocity",
+        ],
+        "pile with three passes",
+    );
+}
+
+#[test]
+fn an_open_world_and_adaptive_substeps_give_the_same_bits() {
+    same_bits_for_1_to_4_ranks(
+        "gas.toml",
+        &[
+            "--set",
+            "world.boundary=open",
+            "--set",
+            "time.steps=150",
+            "--set",
+            "gas.region={ min = [0.0, 0.0], max = [150.0, 150.0] }",
+            "--set",
+            "time.max_travel=0.02",
+        ],
+        "open world with max_travel",
+    );
+}
+
+#[test]
+fn checkpoints_resume_with_any_number_of_ranks_or_none() {
+    let extra = [
+        "--set",
+        "time.steps=200",
+        "--set",
+        "gas.count=6000",
+        "--set",
+        "world.max=[200.0, 200.0]",
+        "--set",
+        "output.gsd_every=20",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one");
+    ok(run(None, "gas.toml", &one, &extra), "one process");
+    // (first part's ranks, steps, second part's ranks)
+    for (first, steps, second) in [
+        (Some(2), "90", Some(3)),
+        (Some(4), "110", None),
+        (None, "70", Some(2)),
+    ] {
+        let out = dir.path().join(format!("{first:?}-{second:?}"));
+        let mut part = extra.to_vec();
+        part.extend(["--steps", steps]);
+        ok(run(first, "gas.toml", &out, &part), "first part");
+        let checkpoint = out.join("checkpoint.bin");
+        let mut rest = extra.to_vec();
+        rest.extend(["--resume", checkpoint.to_str().unwrap()]);
+        ok(run(second, "gas.toml", &out, &rest), "resumed part");
+        same_files(&one, &out, &format!("{first:?} ranks then {second:?}"));
+    }
+}
+
+#[test]
+fn slabs_are_cut_by_count_where_the_discs_are() {
+    // All 6,000 discs start in the bottom fifth of the box: slabs of equal height would
+    // give them all to rank 0.
+    let dir = tempfile::tempdir().unwrap();
+    let stdout = ok(
+        run(
+            Some(4),
+            "gas.toml",
+            &dir.path().join("out"),
+            &[
+                "--set",
+                "time.steps=20",
+                "--set",
+                "gas.count=6000",
+                "--set",
+                "world.max=[200.0, 200.0]",
+                "--set",
+                "gas.region={ min = [0.0, 0.0], max = [200.0, 40.0] }",
+                "--set",
+                "gas.radius=0.3",
+            ],
+        ),
+        "bottom-heavy gas",
+    );
+    let (owned, _) = shares(&stdout);
+    for &n in &owned {
+        assert!(
+            (1350..=1650).contains(&n),
+            "each rank owns about 1,500: {owned:?}"
+        );
+    }
+}
+
+#[test]
+fn a_bad_scenario_is_reported_once_and_every_rank_exits() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        Some(3),
+        "gas.toml",
+        &dir.path().join("out"),
+        &["--set", "world.coefficient_of_restitution=-1"],
+    );
+    assert!(!out.status.success());
+    assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        stderr.matches("coefficient_of_restitution").count(),
+        1,
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_panic_on_one_rank_aborts_the_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut command = Command::new("timeout");
+    command
+        .args(["120", "mpirun", "-np", "3", BOUNCE, "run"])
+        .arg(scenarios().join("gas.toml"))
+        .arg("--out")
+        .arg(dir.path().join("out"))
+        .args(["-q", "--set", "time.steps=400"])
+        .env("BOUNCE_MPI_PANIC_AT", "1:5")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1");
+    let out = command.output().unwrap();
+    assert!(!out.status.success());
+    assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("rank 1 panicked"), "{stderr}");
+    assert!(stderr.contains("MPI_ABORT"), "{stderr}");
+    // Nothing half-written: no stats.csv (it is renamed into place only at the end).
+    assert!(!dir.path().join("out/stats.csv").exists());
+}
