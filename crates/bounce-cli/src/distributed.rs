@@ -590,7 +590,7 @@ impl<'c> Ranks<'c> {
     fn step(&mut self, stop: usize) -> Result<StepStats, Failure> {
         let substeps = self.substeps();
         let part = &mut self.part;
-        let stepped = part.world.step_with_substeps(self.dt, substeps).map(|s| *s);
+        let stepped = part.world.step_with_substeps(self.dt, substeps).copied();
         // Over the owned discs: drift since distribution (in y), this step's stride, the
         // fastest speed and the smallest radius.
         let world = &part.world;
