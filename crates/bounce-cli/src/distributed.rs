@@ -63,6 +63,10 @@ const BINS: usize = 4096;
 /// Order-grid cells a contact chain can cross in one solver pass (4 colour phases, each
 /// within one block and its ring: 3 cells, plus the cell a disc sits in).
 const CELLS_PER_PASS: f64 = 13.0;
+/// Order cells the discs may drift before they are redistributed. More means fewer
+/// redistributions (each rebuilds every part: measured ~0.3 s at 10^6 discs on 2 ranks) and
+/// thicker ghost layers (each ghost is stepped on two ranks).
+const DRIFT_CELLS: f64 = 4.0;
 /// Exact sums a step reduces: the virial and the four walls.
 const SUMS: usize = 5;
 
@@ -356,12 +360,10 @@ impl Slabs {
 /// This rank's part of the world and who it exchanges with.
 struct Part {
     world: World,
-    /// The discs this rank owns, ascending, with their heights when they were distributed.
-    owned: Vec<(ParticleId, f64)>,
-    /// By id: an owned disc's height when distributed (NaN for the others) and its place
-    /// after the last step. (Tables over all ids: a hash map would serve 10^9 discs.)
-    start_height: Vec<f64>,
-    last_place: Vec<[f64; 2]>,
+    /// How many discs this rank owned when they were distributed.
+    owned: usize,
+    /// Which events this part counts (`None` with one rank).
+    tally: Option<Tally>,
     /// Per rank: the owned discs it holds as ghosts (ascending ids).
     send: Vec<Vec<ParticleId>>,
     /// Per rank: its discs held here as ghosts (ascending ids).
@@ -391,6 +393,10 @@ struct Ranks<'c> {
     sent: [u64; 4],
     steps: u64,
     redistributions: u64,
+    /// Seconds in the part's own step, the reductions, ghost refreshes, redistributions.
+    clock: [f64; 4],
+    /// Each step's wall time, all of it.
+    step_times: Vec<f64>,
 }
 
 impl<'c> Ranks<'c> {
@@ -407,9 +413,8 @@ impl<'c> Ranks<'c> {
             comm,
             part: Part {
                 world: whole.part(&[])?,
-                owned: Vec::new(),
-                start_height: Vec::new(),
-                last_place: Vec::new(),
+                owned: 0,
+                tally: None,
                 send: Vec::new(),
                 recv: Vec::new(),
                 ghost_width: 0.0,
@@ -425,6 +430,8 @@ impl<'c> Ranks<'c> {
             sent: [0; 4],
             steps: 0,
             redistributions: 0,
+            clock: [0.0; 4],
+            step_times: Vec::new(),
         };
         // Every rank holds every disc now: each takes its own share without messages.
         let all: Vec<DiscRecord> = whole
@@ -529,14 +536,14 @@ impl<'c> Ranks<'c> {
         let size = self.size();
         let ghost_width = if size == 1 { 0.0 } else { self.ghost_width() };
         let mut held = Vec::new();
-        let mut owned = Vec::new();
+        let mut owned = 0;
         let mut send = vec![Vec::new(); size];
         let mut recv = vec![Vec::new(); size];
         for r in records {
             let y = r.position[1];
             let owner = slabs.owner(y);
             if owner == me {
-                owned.push((r.id, y));
+                owned += 1;
                 held.push(*r);
                 for (k, list) in send.iter_mut().enumerate() {
                     if k != me && slabs.gap(y, k) < ghost_width {
@@ -549,28 +556,18 @@ impl<'c> Ranks<'c> {
             }
         }
         held.sort_unstable_by_key(|r| r.id);
-        owned.sort_unstable_by_key(|o| o.0);
         for list in send.iter_mut().chain(recv.iter_mut()) {
             list.sort_unstable();
-        }
-        let ids = clock.next_id() as usize;
-        let mut start_height = vec![f64::NAN; ids];
-        let mut last_place = vec![[f64::NAN; 2]; ids];
-        for r in &held {
-            if slabs.owner(r.position[1]) == me {
-                start_height[r.id.0 as usize] = r.position[1];
-                last_place[r.id.0 as usize] = r.position;
-            }
         }
         let mut world = clock.part(&held)?;
         world.set_threads(self.threads)?;
         world.set_order_radius(self.max_radius);
-        world.set_tally((size > 1).then(|| slabs.tally(me)));
+        let tally = (size > 1).then(|| slabs.tally(me));
+        world.set_tally(tally);
         Ok(Part {
             world,
             owned,
-            start_height,
-            last_place,
+            tally,
             send,
             recv,
             ghost_width,
@@ -578,44 +575,38 @@ impl<'c> Ranks<'c> {
     }
 
     /// Discs within this of a slab are held by its rank: the reach, and room for the owners
-    /// to drift two order cells each way before a redistribution.
+    /// to drift `DRIFT_CELLS` order cells each way before a redistribution.
     fn ghost_width(&self) -> f64 {
         let law = bounce::law::Law::new(self.part.world.config());
-        self.reach() + 4.0 * law.reach(1.01 * 2.0 * self.max_radius)
+        self.reach() + 2.0 * DRIFT_CELLS * law.reach(1.01 * 2.0 * self.max_radius)
     }
 
     /// One step of the whole world; returns its statistics (the same on every rank).
     /// `stop` is the signal this rank received (0: none); `self.stop` becomes the largest
     /// any rank received.
     fn step(&mut self, stop: usize) -> Result<StepStats, Failure> {
+        let started = Instant::now();
         let substeps = self.substeps();
         let part = &mut self.part;
+        let before = part.world.travel();
         let stepped = part.world.step_with_substeps(self.dt, substeps).copied();
-        // Over the owned discs: drift since distribution (in y), this step's stride, the
-        // fastest speed and the smallest radius.
+        self.clock[0] += started.elapsed().as_secs_f64();
+        // How far discs have moved (bounds from the broadphase's own check: no pass over
+        // the discs), and with adaptive substeps the fastest speed and smallest radius over
+        // the discs in this rank's slab (each disc is in one slab, and right there).
         let world = &part.world;
-        let p = world.particles();
-        let period = |axis: usize| match world.config().boundary {
-            Boundary::Periodic { min, max } => Some(max[axis] - min[axis]),
-            _ => None,
-        };
-        let nearest = |d: f64, size: Option<f64>| size.map_or(d, |l| d - l * (d / l).round());
-        let (wx, wy) = (period(0), period(1));
-        let (mut drift, mut stride, mut speed2, mut radius) =
-            (0.0f64, 0.0f64, 0.0f64, f64::INFINITY);
-        for i in 0..p.len() {
-            let id = p.ids()[i].0 as usize;
-            let y0 = part.start_height[id];
-            if y0.is_nan() {
-                continue;
+        let travel = world.travel();
+        let drift = travel.since_start;
+        let stride = (travel.since_start - before.since_start) + 2.0 * before.since_listing;
+        let (mut speed2, mut radius) = (0.0f64, f64::INFINITY);
+        if world.config().max_travel.is_some() {
+            let p = world.particles();
+            for i in 0..p.len() {
+                if part.tally.is_none_or(|t| t.counts(p.y()[i])) {
+                    speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
+                    radius = radius.min(p.radius()[i]);
+                }
             }
-            let (x, y) = (p.x()[i], p.y()[i]);
-            let [x1, y1] = part.last_place[id];
-            part.last_place[id] = [x, y];
-            drift = drift.max(nearest(y - y0, wy).abs());
-            stride = stride.max(nearest(x - x1, wx).hypot(nearest(y - y1, wy)));
-            speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
-            radius = radius.min(p.radius()[i]);
         }
         let stats = stepped.as_ref().ok().copied().unwrap_or_default();
         let flags = [
@@ -627,6 +618,7 @@ impl<'c> Ranks<'c> {
             speed2,
             -radius,
         ];
+        let reducing = Instant::now();
         let mut all = [0.0; 7];
         self.comm
             .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
@@ -655,6 +647,7 @@ impl<'c> Ranks<'c> {
             .all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
         self.sent[2] += ((flags.len() + lanes.len() + special.len()) * 8) as u64;
         self.steps += 1;
+        self.clock[1] += reducing.elapsed().as_secs_f64();
 
         if all[0] > 0.0 {
             let failed = stepped.err().map(|e| anyhow!(e));
@@ -692,11 +685,27 @@ impl<'c> Ranks<'c> {
         let part = &self.part;
         let size = self.size();
         if size > 1 && part.ghost_width - 2.0 * (all[2] + all[3]) < self.reach() {
+            let t = Instant::now();
             self.redistribute()?;
+            self.clock[3] += t.elapsed().as_secs_f64();
         } else if size > 1 {
+            let t = Instant::now();
             self.refresh()?;
+            self.clock[2] += t.elapsed().as_secs_f64();
         }
+        self.step_times.push(started.elapsed().as_secs_f64());
         Ok(merged)
+    }
+
+    /// The records of the discs now in this rank's slab (each disc is in one slab, and its
+    /// state is right on that slab's rank: the slab lies within the ghost width's reach).
+    fn in_my_slab(&self) -> Vec<DiscRecord> {
+        let world = &self.part.world;
+        let y = world.particles().y();
+        (0..world.len())
+            .filter(|&i| self.part.tally.is_none_or(|t| t.counts(y[i])))
+            .map(|i| world.record(i))
+            .collect()
     }
 
     /// Owners send their discs' states to the ranks holding them as ghosts.
@@ -738,13 +747,7 @@ impl<'c> Ranks<'c> {
     /// New cuts from where the discs are; every owner sends each of its discs to the ranks
     /// that hold it under them.
     fn redistribute(&mut self) -> Result<()> {
-        let world = &self.part.world;
-        let mine: Vec<DiscRecord> = self
-            .part
-            .owned
-            .iter()
-            .map(|(id, _)| world.record(world.index_of(*id).expect("owned discs are held")))
-            .collect();
+        let mine = self.in_my_slab();
         let ys: Vec<f64> = mine.iter().map(|r| r.position[1]).collect();
         let slabs = self.cut(&ys, false);
         let ghost_width = self.ghost_width();
@@ -776,10 +779,9 @@ impl<'c> Ranks<'c> {
     fn gather(&mut self, stats: &StepStats) -> Result<Option<World>> {
         let world = &self.part.world;
         let words: Vec<f64> = self
-            .part
-            .owned
+            .in_my_slab()
             .iter()
-            .flat_map(|(id, _)| world.record(world.index_of(*id).expect("held")).to_words())
+            .flat_map(DiscRecord::to_words)
             .collect();
         let root = self.comm.process_at_rank(0);
         let count = words.len() as Count;
@@ -820,13 +822,22 @@ impl<'c> Ranks<'c> {
         self.comm
             .all_reduce_into(&mine[..], &mut all[..], SystemOperation::sum());
         let per = |k: usize| all[k] / (self.size() as f64 * self.steps.max(1) as f64);
-        let counts = [self.part.owned.len() as u64, self.part.world.len() as u64];
+        let counts = [self.part.owned as u64, self.part.world.len() as u64];
         let mut all_counts = vec![0u64; 2 * self.size()];
         self.comm.all_gather_into(&counts[..], &mut all_counts[..]);
         let owned: Vec<u64> = all_counts.iter().step_by(2).copied().collect();
         let ghosts: Vec<u64> = all_counts.chunks_exact(2).map(|c| c[1] - c[0]).collect();
+        let mut sorted = self.step_times.clone();
+        sorted.sort_by(f64::total_cmp);
+        let steps = sorted.len().max(1) as f64;
+        let mean = sorted.iter().sum::<f64>() / steps;
+        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
+        let [own, reduce, refresh, redistribute] = self.clock.map(|t| 1e3 * t / steps);
         format!(
-            "mpi: {} ranks; bytes sent per rank per step: ghost states {:.0}, redistributions {:.0} ({} times), reductions {:.0}, outputs {:.0}; discs owned per rank {owned:?}, ghosts {ghosts:?}",
+            "mpi: rank 0's step {:.2} ms mean, {:.2} ms median: own discs and ghosts {own:.2}, reductions {reduce:.2}, ghost refresh {refresh:.2}, redistribution {redistribute:.2}\n\
+             mpi: {} ranks; bytes sent per rank per step: ghost states {:.0}, redistributions {:.0} ({} times), reductions {:.0}, outputs {:.0}; discs owned per rank {owned:?}, ghosts {ghosts:?}",
+            1e3 * mean,
+            1e3 * median,
             self.size(),
             per(0),
             per(1),

@@ -62,7 +62,7 @@ pub use config::{
 pub use geometry::WallImpulse;
 pub use obstacles::{Motion, Obstacle, ObstacleState, Shape};
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
-pub use part::{DiscRecord, Tally, wrap_coordinate};
+pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use sources::{Emitter, EmitterState, Sink};
 pub use stats::{StepProfile, StepStats};

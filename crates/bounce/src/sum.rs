@@ -259,7 +259,11 @@ mod tests {
                 let exponent = (state % 600) as i32 - 300;
                 let sign = if state & 1 == 0 { 1.0 } else { -1.0 };
                 let v = sign * mantissa * 2f64.powi(exponent);
-                if state.is_multiple_of(97) { v * 1e-310 } else { v }
+                if state.is_multiple_of(97) {
+                    v * 1e-310
+                } else {
+                    v
+                }
             })
             .collect()
     }

@@ -20,7 +20,7 @@ use crate::integrate::integrate;
 use crate::law::Law;
 use crate::obstacles::{self, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
-use crate::part::{DiscRecord, Tally};
+use crate::part::{DiscRecord, Tally, Travel};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
 use crate::resolve::{resolve_all, resolve_walls};
 use crate::sources::{self, EmitterState};
@@ -100,6 +100,9 @@ pub struct World {
     /// The exact sums of the last step.
     #[serde(skip)]
     sums: StepSums,
+    /// A bound on how far discs have moved since the world was made.
+    #[serde(skip)]
+    travel: Travel,
 }
 
 /// Why a step was refused.
@@ -174,6 +177,7 @@ impl World {
             tally: None,
             order_radius: 0.0,
             sums: StepSums::default(),
+            travel: Travel::default(),
         })
     }
 
@@ -373,6 +377,8 @@ impl World {
                 moved.max_stride,
             );
             reordered |= rebuilt;
+            self.travel
+                .note(moved.max_displacement2, moved.max_stride, rebuilt);
             if rebuilt && follow {
                 self.trail.mark(&self.particles);
             }
@@ -898,6 +904,12 @@ impl World {
     /// that its contacts fall in the same order.
     pub fn set_order_radius(&mut self, radius: f64) {
         self.order_radius = radius;
+    }
+
+    /// Bounds on how far any disc has moved, from what the broadphase measures anyway (see
+    /// [`Travel`]): a distributed run decides from it when its discs must change hands.
+    pub fn travel(&self) -> Travel {
+        self.travel
     }
 
     /// The exact sums of the last step (see [`StepSums`]).
