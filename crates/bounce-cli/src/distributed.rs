@@ -533,45 +533,58 @@ impl<'c> Ranks<'c> {
     /// `slabs`, with clock and statistics from `clock`.
     fn build(&self, clock: &World, slabs: Slabs, records: &[DiscRecord]) -> Result<Part> {
         let me = self.comm.rank() as usize;
-        let size = self.size();
-        let ghost_width = if size == 1 { 0.0 } else { self.ghost_width() };
-        let mut held = Vec::new();
-        let mut owned = 0;
-        let mut send = vec![Vec::new(); size];
-        let mut recv = vec![Vec::new(); size];
-        for r in records {
-            let y = r.position[1];
-            let owner = slabs.owner(y);
-            if owner == me {
-                owned += 1;
-                held.push(*r);
-                for (k, list) in send.iter_mut().enumerate() {
-                    if k != me && slabs.gap(y, k) < ghost_width {
-                        list.push(r.id);
-                    }
-                }
-            } else if slabs.gap(y, me) < ghost_width {
-                recv[owner].push(r.id);
-                held.push(*r);
-            }
-        }
-        held.sort_unstable_by_key(|r| r.id);
-        for list in send.iter_mut().chain(recv.iter_mut()) {
-            list.sort_unstable();
-        }
+        let ghost_width = if self.size() == 1 {
+            0.0
+        } else {
+            self.ghost_width()
+        };
+        let held: Vec<DiscRecord> = records
+            .iter()
+            .filter(|r| {
+                slabs.gap(r.position[1], me) < ghost_width || slabs.owner(r.position[1]) == me
+            })
+            .copied()
+            .collect();
         let mut world = clock.part(&held)?;
         world.set_threads(self.threads)?;
         world.set_order_radius(self.max_radius);
+        Ok(self.plan(world, slabs, ghost_width))
+    }
+
+    /// Who owns and who holds each of `world`'s discs under `slabs`, from where they are.
+    fn plan(&self, mut world: World, slabs: Slabs, ghost_width: f64) -> Part {
+        let me = self.comm.rank() as usize;
+        let size = self.size();
+        let mut owned = 0;
+        let mut send = vec![Vec::new(); size];
+        let mut recv = vec![Vec::new(); size];
+        let p = world.particles();
+        for (&id, &y) in p.ids().iter().zip(p.y()) {
+            let owner = slabs.owner(y);
+            if owner == me {
+                owned += 1;
+                for (k, list) in send.iter_mut().enumerate() {
+                    if k != me && slabs.gap(y, k) < ghost_width {
+                        list.push(id);
+                    }
+                }
+            } else {
+                recv[owner].push(id);
+            }
+        }
+        for list in send.iter_mut().chain(recv.iter_mut()) {
+            list.sort_unstable();
+        }
         let tally = (size > 1).then(|| slabs.tally(me));
         world.set_tally(tally);
-        Ok(Part {
+        Part {
             world,
             owned,
             tally,
             send,
             recv,
             ghost_width,
-        })
+        }
     }
 
     /// Discs within this of a slab are held by its rank: the reach, and room for the owners
@@ -747,6 +760,10 @@ impl<'c> Ranks<'c> {
     /// New cuts from where the discs are; every owner sends each of its discs to the ranks
     /// that hold it under them.
     fn redistribute(&mut self) -> Result<()> {
+        // Every disc held anywhere is right after a refresh; each one now in this rank's slab
+        // goes to the ranks that will hold it and do not.
+        self.refresh()?;
+        let me = self.comm.rank() as usize;
         let mine = self.in_my_slab();
         let ys: Vec<f64> = mine.iter().map(|r| r.position[1]).collect();
         let slabs = self.cut(&ys, false);
@@ -755,21 +772,27 @@ impl<'c> Ranks<'c> {
         let mut outgoing = vec![Vec::new(); size];
         for r in &mine {
             for (k, words) in outgoing.iter_mut().enumerate() {
-                if slabs.gap(r.position[1], k) < ghost_width {
+                if k != me && slabs.gap(r.position[1], k) < ghost_width {
                     words.extend(r.to_words());
                 }
             }
         }
         self.sent[1] += outgoing.iter().map(|w| w.len() as u64 * 8).sum::<u64>();
         let incoming = exchange(self.comm, &outgoing);
-        let records: Vec<DiscRecord> = incoming
+        let world = &mut self.part.world;
+        // Those not held here yet arrive; those beyond the new ghost width leave.
+        let arriving: Vec<DiscRecord> = incoming
             .iter()
             .flat_map(|w| {
                 w.chunks_exact(DiscRecord::WORDS)
                     .map(DiscRecord::from_words)
             })
+            .filter(|r| world.index_of(r.id).is_none())
             .collect();
-        self.part = self.build(&self.part.world, slabs, &records)?;
+        let y = world.particles().y().to_vec();
+        world.regroup(|i| slabs.gap(y[i], me) < ghost_width, &arriving)?;
+        let world = std::mem::replace(&mut self.part.world, World::new(bounce::Config::default())?);
+        self.part = self.plan(world, slabs, ghost_width);
         self.redistributions += 1;
         Ok(())
     }

@@ -332,7 +332,6 @@ fn a_panic_on_one_rank_aborts_the_job() {
     assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("rank 1 panicked"), "{stderr}");
-    assert!(stderr.contains("MPI_ABORT"), "{stderr}");
     // Nothing half-written: no stats.csv (it is renamed into place only at the end).
     assert!(!dir.path().join("out/stats.csv").exists());
 }

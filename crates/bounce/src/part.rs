@@ -166,9 +166,28 @@ impl World {
     pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
         let mut part = World::new(self.config().clone())?;
         part.adopt_clock(self);
-        // One bit per id.
-        let mut seen = vec![0u64; (part.next_id() as usize).div_ceil(64)];
-        for r in records {
+        part.regroup(|_| true, records)?;
+        Ok(part)
+    }
+
+    /// Keeps the discs `keep` accepts (by storage index) and adds `arriving` (ids not held
+    /// here): a part's discs changing hands. All or nothing: an arriving disc that is held
+    /// already, repeated, beyond the world's ids, or has non-finite values or a radius
+    /// `<= 0` changes nothing and is the error. The candidates are listed again at the next
+    /// step, and [`World::travel`] counts from here.
+    pub fn regroup(
+        &mut self,
+        mut keep: impl FnMut(usize) -> bool,
+        arriving: &[DiscRecord],
+    ) -> Result<(), WorldError> {
+        // One bit per id: the discs here, then the arriving ones.
+        let mut seen = vec![0u64; (self.next_id() as usize).div_ceil(64)];
+        let bit = |id: ParticleId| ((id.0 / 64) as usize, 1u64 << (id.0 % 64));
+        for &id in self.particles().ids() {
+            let (word, b) = bit(id);
+            seen[word] |= b;
+        }
+        for r in arriving {
             // States come from a running world: a disc an overlap push left a hair
             // outside a periodic box is wrapped at the next integration, so only the values
             // themselves are checked, not the box.
@@ -179,19 +198,29 @@ impl World {
                     r.id.0
                 )));
             }
-            let (word, bit) = ((r.id.0 / 64) as usize, 1u64 << (r.id.0 % 64));
-            if r.id.0 >= part.next_id() || seen[word] & bit != 0 {
+            if r.id.0 >= self.next_id() {
                 return Err(WorldError::Inconsistent(format!(
-                    "disc {} is repeated or beyond the world's ids (next id {})",
+                    "disc {} is beyond the world's ids (next id {})",
                     r.id.0,
-                    part.next_id()
+                    self.next_id()
                 )));
             }
-            seen[word] |= bit;
-            part.push_record(r);
+            let (word, b) = bit(r.id);
+            if seen[word] & b != 0 {
+                return Err(WorldError::Inconsistent(format!(
+                    "disc {} is here already or arrives twice",
+                    r.id.0
+                )));
+            }
+            seen[word] |= b;
         }
-        part.after_records();
-        Ok(part)
+        self.keep_discs(&mut keep);
+        for r in arriving {
+            self.push_record(r);
+        }
+        self.after_records();
+        self.reset_travel();
+        Ok(())
     }
 
     /// Sets the position and velocity `[x, y, vx, vy]` of each disc named (a part's ghosts,
@@ -332,5 +361,16 @@ mod tests {
         assert!(part.overwrite(&[(all[4].id, [0.0; 4])]).is_err());
         // Repeated ids are refused.
         assert!(world.part(&[all[0], all[0]]).is_err());
+        // Regrouping: discs 1 and 3 leave, 0 arrives; one held already is refused.
+        let mut part = world.part(&[all[1], all[2], all[3]]).unwrap();
+        let leaving = [all[1].id, all[3].id];
+        let ids: Vec<_> = part.particles().ids().to_vec();
+        part.regroup(|i| !leaving.contains(&ids[i]), &[all[0]])
+            .unwrap();
+        let mut held: Vec<_> = part.particles().ids().to_vec();
+        held.sort();
+        assert_eq!(held, [all[0].id, all[2].id]);
+        assert!(part.regroup(|_| true, &[all[2]]).is_err());
+        assert_eq!(part.len(), 2, "nothing changed");
     }
 }

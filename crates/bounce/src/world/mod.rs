@@ -931,6 +931,16 @@ impl World {
         self.emitted_ids = other.emitted_ids.clone();
     }
 
+    pub(crate) fn reset_travel(&mut self) {
+        self.travel = Travel::default();
+    }
+
+    /// Keeps the discs `keep` accepts, by storage index.
+    pub(crate) fn keep_discs(&mut self, keep: &mut impl FnMut(usize) -> bool) {
+        let kept: Vec<bool> = (0..self.particles.len()).map(keep).collect();
+        self.particles.retain(|i| kept[i]);
+    }
+
     /// Appends a disc with its id and image counts (checked by the caller).
     pub(crate) fn push_record(&mut self, r: &DiscRecord) {
         let p = &mut self.particles;
