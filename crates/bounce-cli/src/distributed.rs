@@ -602,6 +602,7 @@ impl<'c> Ranks<'c> {
         let substeps = self.substeps();
         let part = &mut self.part;
         let before = part.world.travel();
+        let worn_before = part.world.candidates_worn().unwrap_or(0.0);
         let stepped = part.world.step_with_substeps(self.dt, substeps).copied();
         self.clock[0] += started.elapsed().as_secs_f64();
         // How far discs have moved (bounds from the broadphase's own check: no pass over
@@ -621,6 +622,9 @@ impl<'c> Ranks<'c> {
                 }
             }
         }
+        // Where this part's candidate list will be after another step like this one.
+        let worn = world.candidates_worn().unwrap_or(0.0);
+        let worn_next = worn + (worn - worn_before).max(0.0);
         let stats = stepped.as_ref().ok().copied().unwrap_or_default();
         let flags = [
             f64::from(u8::from(stepped.is_err())),
@@ -630,9 +634,10 @@ impl<'c> Ranks<'c> {
             stats.max_overlap,
             speed2,
             -radius,
+            worn_next,
         ];
         let reducing = Instant::now();
-        let mut all = [0.0; 7];
+        let mut all = [0.0; 8];
         self.comm
             .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
         // The step's sums: pairs and the exact sums' lanes (integers), then their
@@ -671,6 +676,11 @@ impl<'c> Ranks<'c> {
             });
         }
         self.stop = all[1] as usize;
+        // The parts list their candidates together, when the first would have to: a step
+        // waits for the slowest part, and a listing costs several plain steps.
+        if self.size() > 1 && all[7] >= 1.0 {
+            self.part.world.relist();
+        }
         self.stride = all[3];
         self.max_speed2 = all[5];
         self.min_radius = -all[6];

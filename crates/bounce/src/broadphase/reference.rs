@@ -70,8 +70,13 @@ impl Reference {
     /// Whether candidates listed at the reference positions still hold every pair that can
     /// collide, given the largest squared displacement of any disc since.
     pub(crate) fn covers(&self, max_displacement2: f64) -> bool {
-        let allowance = ALLOWANCE_FRACTION * self.skin - self.slack;
+        let allowance = self.allowance();
         allowance > 0.0 && max_displacement2 < allowance * allowance
+    }
+
+    /// How far a disc may move from its reference position before the list is rebuilt.
+    pub(crate) fn allowance(&self) -> f64 {
+        ALLOWANCE_FRACTION * self.skin - self.slack
     }
 
     /// Takes `x`, `y` (with candidates listed up to `skin`) as the reference; none when the

@@ -906,6 +906,24 @@ impl World {
         self.order_radius = radius;
     }
 
+    /// How much of the candidate list's allowance the discs have used (the farthest disc's
+    /// distance from where the list was made, over the distance that forces a new list): at
+    /// 1 the next substep lists again. `None` while no list is kept.
+    pub fn candidates_worn(&self) -> Option<f64> {
+        let bp = &self.broadphase;
+        let allowance = bp.reference.allowance();
+        (bp.reference.positions(self.particles.len()).is_some() && allowance > 0.0)
+            .then(|| self.travel.since_listing / allowance)
+    }
+
+    /// Lists the candidates afresh at the next step, however little the discs moved: the
+    /// parts of a distributed world list together (their steps wait for the slowest part,
+    /// and listing costs several plain steps), not each on its own schedule. Results do not
+    /// change: which pairs collide never depends on when lists are made.
+    pub fn relist(&mut self) {
+        self.broadphase.invalidate();
+    }
+
     /// Bounds on how far any disc has moved, from what the broadphase measures anyway (see
     /// [`Travel`]): a distributed run decides from it when its discs must change hands.
     pub fn travel(&self) -> Travel {
