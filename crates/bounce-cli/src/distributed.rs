@@ -526,6 +526,11 @@ impl<'c> Ranks<'c> {
         for cut in &mut slabs.cuts[k..size] {
             *cut = hi;
         }
+        // On the order grid's block edges: each block's contacts are one rank's.
+        let config = self.part.world.config();
+        for cut in &mut slabs.cuts[1..size] {
+            *cut = bounce::order_block_start(config, self.max_radius, *cut);
+        }
         slabs
     }
 

@@ -482,6 +482,20 @@ impl OrderAxis {
     }
 }
 
+/// Where the order block holding height `y` begins (its lower edge along y), for discs up to
+/// `max_radius` under `config`: a distributed run cuts its slabs there, so each block's
+/// contacts are resolved and counted by one rank.
+pub fn order_block_start(config: &crate::Config, max_radius: f64, y: f64) -> f64 {
+    let grid = OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius);
+    let axis = &grid.0[1];
+    if axis.single || !(axis.inv_cell > 0.0) {
+        return y;
+    }
+    let cell = ((y - axis.origin) * axis.inv_cell).floor();
+    let start = cell - cell.rem_euclid(2.0);
+    axis.origin + start / axis.inv_cell
+}
+
 /// The grid that fixes the canonical order of contacts.
 #[derive(Clone, Copy, Debug)]
 struct OrderGrid([OrderAxis; 2]);
@@ -595,6 +609,32 @@ mod tests {
                     contacts.list, expected,
                     "{count} contacts over {span} blocks, stacked {stacked}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn order_blocks_start_where_their_discs_fall() {
+        for config in [
+            Config::default(),
+            Config {
+                boundary: Boundary::Periodic {
+                    min: [-5.0, -7.0],
+                    max: [95.0, 93.0],
+                },
+                ..Config::default()
+            },
+        ] {
+            let grid = order_grid(&config, 0.5);
+            for y in [-3.3, 0.0, 0.7, 12.34, 50.0, 91.0] {
+                let start = order_block_start(&config, 0.5, y);
+                assert!(start <= y, "{start} <= {y}");
+                // The block's first and last points are in y's block, its next one is not.
+                let block = grid.0[1].block(y);
+                assert_eq!(grid.0[1].block(start + 1e-9), block);
+                let height = 2.0 / grid.0[1].inv_cell;
+                assert_eq!(grid.0[1].block(start + height - 1e-9), block);
+                assert_ne!(grid.0[1].block(start + height + 1e-9), block);
             }
         }
     }

@@ -41,6 +41,7 @@
 mod broadphase;
 mod config;
 mod contacts;
+pub use contacts::order_block_start;
 mod context;
 mod geometry;
 mod integrate;
