@@ -3,7 +3,8 @@
 //!
 //! **Decomposition.** The box is cut across y into R slabs holding about as many discs each
 //! (a histogram of the discs' heights summed over the ranks, so a pile at the bottom of a
-//! box gets thin slabs there), recomputed whenever discs are redistributed. A rank *owns*
+//! box gets thin slabs there), cut on the order grid's block edges (each block's contacts are
+//! one rank's) and recomputed whenever discs are redistributed. A rank *owns*
 //! the discs whose (wrapped) height is in its slab and holds copies, *ghosts*, of every disc
 //! within a ghost width of it.
 //!
@@ -18,9 +19,13 @@
 //! resolution's colour phases need no message of their own: each rank recomputes the ghost
 //! layer instead (a few order cells of extra work against 4 × passes × substeps latencies).
 //!
-//! **Redistribution.** Owners keep their discs until one has drifted far enough that the
-//! ghost width no longer covers the reach (`G − 2 (drift + step) < reach`); then every
-//! owner sends each disc it owns to the ranks that should hold it under new cuts.
+//! **Redistribution.** Ranks keep their discs until the discs' travel (a bound the
+//! broadphase keeps anyway, `bounce::World::travel`) leaves too little of the ghost width
+//! (`G − 2 (travel + stride) < reach`); then, after a refresh, new cuts are made and each
+//! disc in a rank's slab goes to the ranks that will hold it and do not: only the discs that
+//! change holders move (`bounce::World::regroup`). The parts list their candidate pairs
+//! together, when the first one would have to (a step waits for the slowest part, and a
+//! listing costs several plain steps).
 //!
 //! **Same sums.** Each part counts the contacts and wall hits in its slab
 //! (`bounce::World::set_tally`), summed exactly (`bounce::ExactSum`); the ranks add their
