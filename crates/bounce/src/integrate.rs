@@ -77,34 +77,47 @@ pub(crate) fn integrate(
     let chunks = &mut chunks[..];
     let exec = ctx.exec;
     let partial = match ctx.geometry {
-        Geometry::Open => pass.run(exec, chunks, |_, _, _, _| {}),
-        Geometry::Periodic { min, size, .. } => {
-            pass.run(exec, chunks, |_, [x, y, _, _], image, _| {
+        Geometry::Open => pass.run(
+            exec,
+            chunks,
+            #[inline(always)]
+            |_, _, _, _| {},
+        ),
+        Geometry::Periodic { min, size, .. } => pass.run(
+            exec,
+            chunks,
+            #[inline(always)]
+            |_, [x, y, _, _], image, _| {
                 image[0] += wrap(x, min[0], size[0]);
                 image[1] += wrap(y, min[1], size[1]);
-            })
-        }
+            },
+        ),
         Geometry::Walls {
             min,
             max,
             restitution: e,
-        } => pass.run(exec, chunks, |i, [x, y, vx, vy], _, impulse| {
-            // Radii are at most `max_radius`, so a disc farther from every wall touches
-            // none (rounding is monotone, so this never skips a disc `reflect` would move).
-            let near = *x - max_radius < min[0]
-                || *x + max_radius > max[0]
-                || *y - max_radius < min[1]
-                || *y + max_radius > max[1];
-            if near {
-                let r = radius[i];
-                let m = law.mass(r, mass[i]);
-                let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
-                let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
-                if tally.is_none_or(|t| t.counts(*y)) {
-                    impulse.add([left, right, bottom, top]);
+        } => pass.run(
+            exec,
+            chunks,
+            #[inline(always)]
+            |i, [x, y, vx, vy], _, impulse| {
+                // Radii are at most `max_radius`, so a disc farther from every wall touches
+                // none (rounding is monotone, so this never skips a disc `reflect` would move).
+                let near = *x - max_radius < min[0]
+                    || *x + max_radius > max[0]
+                    || *y - max_radius < min[1]
+                    || *y + max_radius > max[1];
+                if near {
+                    let r = radius[i];
+                    let m = law.mass(r, mass[i]);
+                    let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
+                    let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
+                    if left != 0.0 || right != 0.0 || bottom != 0.0 || top != 0.0 {
+                        record_hit(impulse, [left, right, bottom, top], *y, tally);
+                    }
                 }
-            }
-        }),
+            },
+        ),
     };
     let mut moved = Moved {
         max_displacement2: if reference.is_some() {
@@ -122,6 +135,15 @@ pub(crate) fn integrate(
     }
     moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
+}
+
+/// Adds a wall hit's impulses, if the tally counts the disc: out of line, so the pass's
+/// per-disc closure stays small enough to be inlined (hits are rare).
+#[inline(never)]
+fn record_hit(impulse: &mut WallSums, hit: [f64; 4], y: f64, tally: Option<crate::part::Tally>) {
+    if tally.is_none_or(|t| t.counts(y)) {
+        impulse.add(hit);
+    }
 }
 
 /// The constants of one pass.
