@@ -111,6 +111,11 @@ fn same_bits_for_1_to_4_ranks(scenario: &str, extra: &[&str], what: &str) -> (Ve
     last.unwrap()
 }
 
+/// `--set VALUE` for each value.
+fn sets(values: &[&'static str]) -> Vec<&'static str> {
+    values.iter().flat_map(|v| ["--set", v]).collect()
+}
+
 /// Every rank holds ghosts, and none holds every disc: real layers, not copies.
 fn assert_holds_layers(owned: &[u64], ghosts: &[u64], total: u64) {
     for (o, g) in owned.iter().zip(ghosts) {
@@ -127,20 +132,14 @@ fn a_gas_in_walls_gives_the_same_bits_on_any_number_of_ranks() {
     // narrower than them, so discs really are owned, copied and handed over.
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "gas.toml",
-        &[
-            "--set",
+        &sets(&[
             "time.steps=150",
-            "--set",
             "gas.count=6000",
-            "--set",
             "world.max=[200.0, 200.0]",
-            "--set",
             "gas.radius=[0.3, 0.9]",
-            "--set",
             "output.stats_every=5",
-            "--set",
             "output.gsd_every=25",
-        ],
+        ]),
         "gas in walls",
     );
     assert_eq!(owned.iter().sum::<u64>(), 6000);
@@ -152,20 +151,14 @@ fn a_periodic_gas_gives_the_same_bits_on_any_number_of_ranks() {
     // Ghosts across the periodic edge: the first and last slabs are neighbours.
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "gas.toml",
-        &[
-            "--set",
+        &sets(&[
             "world.boundary=periodic",
-            "--set",
             "time.steps=150",
-            "--set",
             "gas.count=6000",
-            "--set",
             "world.max=[200.0, 200.0]",
-            "--set",
             "gas.radius=[0.3, 0.9]",
-            "--set",
             "output.gsd_every=25",
-        ],
+        ]),
         "periodic gas",
     );
     assert_eq!(owned.iter().sum::<u64>(), 6000);
@@ -177,34 +170,26 @@ fn a_settling_pile_gives_the_same_bits_on_any_number_of_ranks() {
     // The shipped pile (4 substeps: every rank's ghost layer spans the box) and a tall one
     // with one substep whose slabs have real ghost layers, through the fall and the
     // settling; and with three solver passes (contacts lowest first, walls as contacts).
-    same_bits_for_1_to_4_ranks("pile.toml", &["--set", "time.steps=300"], "pile");
+    same_bits_for_1_to_4_ranks("pile.toml", &sets(&["time.steps=300"]), "pile");
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "pile.toml",
-        &[
-            "--set",
+        &sets(&[
             "time.steps=300",
-            "--set",
             "time.substeps=1",
-            "--set",
             "gas.count=4000",
-            "--set",
             "world.max=[80.0, 300.0]",
-            "--set",
             "gas.region={ min = [0.0, 20.0], max = [80.0, 300.0] }",
-        ],
+        ]),
         "tall pile",
     );
     assert_holds_layers(&owned, &ghosts, 4000);
     same_bits_for_1_to_4_ranks(
         "pile.toml",
-        &[
-            "--set",
+        &sets(&[
             "time.steps=120",
-            "--set",
             "world.solver_iterations=3",
-            "--set",
             "world.restitution_model=relative_normal_velocity",
-        ],
+        ]),
         "pile with three passes",
     );
 }
@@ -213,32 +198,24 @@ fn a_settling_pile_gives_the_same_bits_on_any_number_of_ranks() {
 fn an_open_world_and_adaptive_substeps_give_the_same_bits() {
     same_bits_for_1_to_4_ranks(
         "gas.toml",
-        &[
-            "--set",
+        &sets(&[
             "world.boundary=open",
-            "--set",
             "time.steps=150",
-            "--set",
             "gas.region={ min = [0.0, 0.0], max = [150.0, 150.0] }",
-            "--set",
             "time.max_travel=0.02",
-        ],
+        ]),
         "open world with max_travel",
     );
 }
 
 #[test]
 fn checkpoints_resume_with_any_number_of_ranks_or_none() {
-    let extra = [
-        "--set",
+    let extra = sets(&[
         "time.steps=200",
-        "--set",
         "gas.count=6000",
-        "--set",
         "world.max=[200.0, 200.0]",
-        "--set",
         "output.gsd_every=20",
-    ];
+    ]);
     let dir = tempfile::tempdir().unwrap();
     let one = dir.path().join("one");
     ok(run(None, "gas.toml", &one, &extra), "one process");
@@ -270,18 +247,13 @@ fn slabs_are_cut_by_count_where_the_discs_are() {
             Some(4),
             "gas.toml",
             &dir.path().join("out"),
-            &[
-                "--set",
+            &sets(&[
                 "time.steps=20",
-                "--set",
                 "gas.count=6000",
-                "--set",
                 "world.max=[200.0, 200.0]",
-                "--set",
                 "gas.region={ min = [0.0, 0.0], max = [200.0, 40.0] }",
-                "--set",
                 "gas.radius=0.3",
-            ],
+            ]),
         ),
         "bottom-heavy gas",
     );
@@ -301,7 +273,7 @@ fn a_bad_scenario_is_reported_once_and_every_rank_exits() {
         Some(3),
         "gas.toml",
         &dir.path().join("out"),
-        &["--set", "world.coefficient_of_restitution=-1"],
+        &sets(&["world.coefficient_of_restitution=-1"]),
     );
     assert!(!out.status.success());
     assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
