@@ -488,7 +488,7 @@ impl OrderAxis {
 pub fn order_block_start(config: &crate::Config, max_radius: f64, y: f64) -> f64 {
     let grid = OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius);
     let axis = &grid.0[1];
-    if axis.single || !(axis.inv_cell > 0.0) {
+    if axis.single || axis.inv_cell.is_nan() || axis.inv_cell <= 0.0 {
         return y;
     }
     let cell = ((y - axis.origin) * axis.inv_cell).floor();
