@@ -307,3 +307,58 @@ fn a_panic_on_one_rank_aborts_the_job() {
     // Nothing half-written: no stats.csv (it is renamed into place only at the end).
     assert!(!dir.path().join("out/stats.csv").exists());
 }
+
+#[test]
+fn a_signal_stops_every_rank_with_its_outputs_and_a_checkpoint_that_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let extra = sets(&[
+        "gas.count=20000",
+        "world.max=[300.0, 300.0]",
+        "time.steps=1000000",
+        "output.gsd_every=20",
+    ]);
+    let mut child = Command::new("mpirun")
+        .args(["-np", "2", BOUNCE, "run"])
+        .arg(scenarios().join("gas.toml"))
+        .arg("--out")
+        .arg(&out)
+        .args(["-q", "--threads", "1"])
+        .args(QUIET_OUTPUTS)
+        .args(&extra)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .stderr(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    // SIGTERM to mpirun, which forwards it to the ranks.
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let at = stderr
+        .find("interrupted by signal 15 at step ")
+        .unwrap_or_else(|| panic!("a stop message: {stderr}"))
+        + "interrupted by signal 15 at step ".len();
+    let stopped: u64 = stderr[at..].split(' ').next().unwrap().parse().unwrap();
+    assert!(stopped > 0);
+    // Resumed on 3 ranks to 30 steps past the stop: one process's run to there, byte for
+    // byte.
+    let target = (stopped + 30).to_string();
+    let checkpoint = out.join("checkpoint.bin");
+    let mut rest = extra.clone();
+    rest.extend(["--steps", &target, "--resume", checkpoint.to_str().unwrap()]);
+    ok(run(Some(3), "gas.toml", &out, &rest), "resumed");
+    let one = dir.path().join("one");
+    let mut whole = extra.clone();
+    whole.extend(["--steps", &target]);
+    ok(run(None, "gas.toml", &one, &whole), "one process");
+    same_files(&one, &out, "stopped by a signal and resumed");
+}
