@@ -305,61 +305,139 @@ fn panic_at() -> Option<(i32, u64)> {
     Some((rank.parse().ok()?, step.parse().ok()?))
 }
 
-/// The slabs: rank `k` owns the (wrapped) heights in `[cuts[k], cuts[k + 1])`; the first and
-/// last cuts are infinite.
+/// Cuts along one axis: part `k` is `[cuts[k], cuts[k + 1])` of the (wrapped) coordinate;
+/// the first and last cuts are infinite.
 #[derive(Clone, Debug, PartialEq)]
-struct Slabs {
+struct Cuts {
     cuts: Vec<f64>,
-    /// `(min, size)` of a periodic box along y.
+    /// `(min, size)` of a periodic box along this axis.
     period: Option<(f64, f64)>,
 }
 
-impl Slabs {
-    fn ranks(&self) -> usize {
+impl Cuts {
+    fn parts(&self) -> usize {
         self.cuts.len() - 1
     }
 
-    fn wrapped(&self, y: f64) -> f64 {
+    fn wrapped(&self, v: f64) -> f64 {
         match self.period {
-            Some((min, size)) => wrap_coordinate(y, min, size),
-            None => y,
+            Some((min, size)) => wrap_coordinate(v, min, size),
+            None => v,
         }
     }
 
-    /// The rank owning height `y`.
-    fn owner(&self, y: f64) -> usize {
-        let y = self.wrapped(y);
-        self.cuts[1..self.ranks()].partition_point(|&c| c <= y)
+    /// The part holding `v`.
+    fn part_of(&self, v: f64) -> usize {
+        let v = self.wrapped(v);
+        self.cuts[1..self.parts()].partition_point(|&c| c <= v)
     }
 
-    /// How far height `y` is from rank `k`'s slab (0 inside), across a periodic box's edge
-    /// too.
-    fn gap(&self, y: f64, k: usize) -> f64 {
-        let y = self.wrapped(y);
+    /// How far `v` is from part `k` (0 inside), across a periodic box's edge too.
+    fn gap(&self, v: f64, k: usize) -> f64 {
+        let v = self.wrapped(v);
         let (mut a, mut b) = (self.cuts[k], self.cuts[k + 1]);
+        let (first, last) = (k == 0, k == self.parts() - 1);
         match self.period {
             Some((min, size)) => {
-                if k == 0 {
+                if first {
                     a = min;
                 }
-                if k == self.ranks() - 1 {
+                if last {
                     b = min + size;
                 }
-                if (a <= y && y < b) || (k == 0 && y < a) || (k == self.ranks() - 1 && y >= b) {
+                if (a <= v && v < b) || (first && v < a) || (last && v >= b) {
                     0.0
                 } else {
-                    (a - y).rem_euclid(size).min((y - b).rem_euclid(size))
+                    (a - v).rem_euclid(size).min((v - b).rem_euclid(size))
                 }
             }
-            None if y < a => a - y,
-            None if y >= b => y - b,
+            None if v < a => a - v,
+            None if v >= b => v - b,
             None => 0.0,
         }
     }
 
-    fn tally(&self, k: usize) -> Tally {
-        Tally::new(self.cuts[k], self.cuts[k + 1], self.period)
+    fn range(&self, k: usize) -> [f64; 2] {
+        [self.cuts[k], self.cuts[k + 1]]
     }
+}
+
+/// The domains: rows across y, each cut across x into as many columns; rank
+/// `row × columns + column`. Rows and columns hold about as many discs each.
+#[derive(Clone, Debug, PartialEq)]
+struct Domains {
+    rows: Cuts,
+    /// Each row's columns.
+    columns: Vec<Cuts>,
+}
+
+impl Domains {
+    #[cfg(test)]
+    fn ranks(&self) -> usize {
+        self.rows.parts() * self.columns[0].parts()
+    }
+
+    /// The row and column of rank `k`.
+    fn place(&self, k: usize) -> (usize, usize) {
+        let columns = self.columns[0].parts();
+        (k / columns, k % columns)
+    }
+
+    /// The rank owning the place `(x, y)`.
+    fn owner(&self, x: f64, y: f64) -> usize {
+        let row = self.rows.part_of(y);
+        row * self.columns[0].parts() + self.columns[row].part_of(x)
+    }
+
+    /// How far `(x, y)` is from rank `k`'s domain (0 inside).
+    fn gap(&self, x: f64, y: f64, k: usize) -> f64 {
+        let (row, column) = self.place(k);
+        self.columns[row]
+            .gap(x, column)
+            .hypot(self.rows.gap(y, row))
+    }
+
+    fn tally(&self, k: usize) -> Tally {
+        let (row, column) = self.place(k);
+        Tally::new(
+            self.columns[row].range(column),
+            self.rows.range(row),
+            [self.columns[row].period, self.rows.period],
+        )
+    }
+}
+
+/// Rows and columns for `ranks`: as square as divides evenly (columns = the largest divisor
+/// up to the square root), more rows than columns.
+fn grid_shape(ranks: usize) -> (usize, usize) {
+    let columns = (1..=ranks)
+        .take_while(|c| c * c <= ranks)
+        .filter(|c| ranks.is_multiple_of(*c))
+        .last()
+        .unwrap_or(1);
+    (ranks / columns, columns)
+}
+
+/// `parts` cuts from a histogram of `counts` over `[lo, lo + bins × width)`: about as many
+/// counted in each part.
+fn cuts_by_count(counts: &[u64], lo: f64, width: f64, parts: usize) -> Vec<f64> {
+    let mut cuts = vec![f64::NEG_INFINITY; parts + 1];
+    cuts[parts] = f64::INFINITY;
+    let n: u64 = counts.iter().sum();
+    let mut below = 0u64;
+    let mut k = 1;
+    for (bin, &c) in counts.iter().enumerate() {
+        below += c;
+        while k < parts && below * parts as u64 >= n * k as u64 {
+            cuts[k] = lo + (bin + 1) as f64 * width;
+            k += 1;
+        }
+    }
+    let hi = lo + counts.len() as f64 * width;
+    for cut in &mut cuts[k..parts] {
+        *cut = hi;
+    }
+    cuts
 }
 
 /// This rank's part of the world and who it exchanges with.
@@ -444,9 +522,9 @@ impl<'c> Ranks<'c> {
             .into_iter()
             .map(|(_, i)| whole.record(i))
             .collect();
-        let ys: Vec<f64> = all.iter().map(|r| r.position[1]).collect();
-        let slabs = ranks.cut(&ys, true);
-        ranks.part = ranks.build(whole, slabs, &all)?;
+        let places: Vec<[f64; 2]> = all.iter().map(|r| r.position).collect();
+        let domains = ranks.cut(&places, true);
+        ranks.part = ranks.build(whole, domains, &all)?;
         Ok(ranks)
     }
 
@@ -474,74 +552,102 @@ impl<'c> Ranks<'c> {
             .substeps_for_extremes(self.dt, self.max_speed2, self.min_radius)
     }
 
-    /// Cuts across y with about as many of `ys` (this rank's owned heights; with `everyone`,
-    /// every disc, which every rank holds) in each slab.
-    fn cut(&self, ys: &[f64], everyone: bool) -> Slabs {
-        let size = self.size();
-        let period = match self.part.world.config().boundary {
-            Boundary::Periodic { min, max } => Some((min[1], max[1] - min[1])),
+    /// Domains with about as many of `places` (this rank's discs; with `everyone`, every
+    /// disc, which every rank holds) in each, cut on the order grid's block edges (each
+    /// block's contacts are one rank's).
+    fn cut(&self, places: &[[f64; 2]], everyone: bool) -> Domains {
+        let config = self.part.world.config();
+        let period = |axis: usize| match config.boundary {
+            Boundary::Periodic { min, max } => Some((min[axis], max[axis] - min[axis])),
             _ => None,
         };
-        let mut slabs = Slabs {
-            cuts: vec![f64::NEG_INFINITY; size + 1],
-            period,
+        let (rows, columns) = grid_shape(self.size());
+        let whole = |axis: usize, parts: usize| Cuts {
+            cuts: {
+                let mut c = vec![f64::NEG_INFINITY; parts + 1];
+                c[parts] = f64::INFINITY;
+                c
+            },
+            period: period(axis),
         };
-        slabs.cuts[size] = f64::INFINITY;
-        if size == 1 {
-            return slabs;
+        let mut domains = Domains {
+            rows: whole(1, rows),
+            columns: vec![whole(0, columns); rows],
+        };
+        if self.size() == 1 {
+            return domains;
         }
-        let wrapped: Vec<f64> = ys.iter().map(|&y| slabs.wrapped(y)).collect();
-        // The histogram's range: the box, or where the discs are.
-        let (lo, hi) = match self.part.world.config().boundary.bounds() {
-            Some((min, max)) => (min[1], max[1]),
+        let wrapped: Vec<[f64; 2]> = places
+            .iter()
+            .map(|&[x, y]| [domains.columns[0].wrapped(x), domains.rows.wrapped(y)])
+            .collect();
+        // The histograms' range: the box, or where the discs are.
+        let (lo, hi) = match config.boundary.bounds() {
+            Some((min, max)) => (min, max),
             None => {
-                let mut ends = [
-                    -wrapped.iter().copied().fold(f64::INFINITY, f64::min),
-                    wrapped.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                ];
+                let mut ends = [f64::NEG_INFINITY; 4];
+                for p in &wrapped {
+                    for axis in 0..2 {
+                        ends[axis] = ends[axis].max(-p[axis]);
+                        ends[2 + axis] = ends[2 + axis].max(p[axis]);
+                    }
+                }
                 if !everyone {
                     let mine = ends;
                     self.comm
                         .all_reduce_into(&mine[..], &mut ends[..], SystemOperation::max());
                 }
-                (-ends[0], ends[1])
+                ([-ends[0], -ends[1]], [ends[2], ends[3]])
             }
         };
-        let width = ((hi - lo) / BINS as f64).max(f64::MIN_POSITIVE);
+        let width = [0, 1].map(|axis| ((hi[axis] - lo[axis]) / BINS as f64).max(f64::MIN_POSITIVE));
+        let bin = |axis: usize, v: f64| {
+            let b = ((v - lo[axis]) / width[axis]).floor();
+            (b.max(0.0) as usize).min(BINS - 1)
+        };
+        let sum = |counts: &mut Vec<u64>| {
+            if !everyone {
+                let mine = counts.clone();
+                self.comm
+                    .all_reduce_into(&mine[..], &mut counts[..], SystemOperation::sum());
+            }
+        };
+        let snap = |axis: usize, cuts: &mut [f64]| {
+            let n = cuts.len() - 1;
+            for cut in &mut cuts[1..n] {
+                *cut = bounce::order_block_start(config, self.max_radius, axis, *cut);
+            }
+        };
+        // Rows by the heights, then each row's columns by the x of its discs.
         let mut counts = vec![0u64; BINS];
-        for &y in &wrapped {
-            let bin = ((y - lo) / width).floor();
-            counts[(bin.max(0.0) as usize).min(BINS - 1)] += 1;
+        for p in &wrapped {
+            counts[bin(1, p[1])] += 1;
         }
-        if !everyone {
-            let mine = counts.clone();
-            self.comm
-                .all_reduce_into(&mine[..], &mut counts[..], SystemOperation::sum());
-        }
-        let n: u64 = counts.iter().sum();
-        let mut below = 0u64;
-        let mut k = 1;
-        for (bin, &c) in counts.iter().enumerate() {
-            below += c;
-            while k < size && below * size as u64 >= n * k as u64 {
-                slabs.cuts[k] = lo + (bin + 1) as f64 * width;
-                k += 1;
+        sum(&mut counts);
+        domains.rows.cuts = cuts_by_count(&counts, lo[1], width[1], rows);
+        snap(1, &mut domains.rows.cuts);
+        if columns > 1 {
+            let mut counts = vec![0u64; rows * BINS];
+            for p in &wrapped {
+                counts[domains.rows.part_of(p[1]) * BINS + bin(0, p[0])] += 1;
+            }
+            sum(&mut counts);
+            for (row, cuts) in domains.columns.iter_mut().enumerate() {
+                cuts.cuts = cuts_by_count(
+                    &counts[row * BINS..(row + 1) * BINS],
+                    lo[0],
+                    width[0],
+                    columns,
+                );
+                snap(0, &mut cuts.cuts);
             }
         }
-        for cut in &mut slabs.cuts[k..size] {
-            *cut = hi;
-        }
-        // On the order grid's block edges: each block's contacts are one rank's.
-        let config = self.part.world.config();
-        for cut in &mut slabs.cuts[1..size] {
-            *cut = bounce::order_block_start(config, self.max_radius, *cut);
-        }
-        slabs
+        domains
     }
 
     /// This rank's part from `records` (every disc it must hold, and perhaps more), cut by
-    /// `slabs`, with clock and statistics from `clock`.
-    fn build(&self, clock: &World, slabs: Slabs, records: &[DiscRecord]) -> Result<Part> {
+    /// `domains`, with clock and statistics from `clock`.
+    fn build(&self, clock: &World, domains: Domains, records: &[DiscRecord]) -> Result<Part> {
         let me = self.comm.rank() as usize;
         let ghost_width = if self.size() == 1 {
             0.0
@@ -551,30 +657,31 @@ impl<'c> Ranks<'c> {
         let held: Vec<DiscRecord> = records
             .iter()
             .filter(|r| {
-                slabs.gap(r.position[1], me) < ghost_width || slabs.owner(r.position[1]) == me
+                let [x, y] = r.position;
+                domains.gap(x, y, me) < ghost_width || domains.owner(x, y) == me
             })
             .copied()
             .collect();
         let mut world = clock.part(&held)?;
         world.set_threads(self.threads)?;
         world.set_order_radius(self.max_radius);
-        Ok(self.plan(world, slabs, ghost_width))
+        Ok(self.plan(world, domains, ghost_width))
     }
 
-    /// Who owns and who holds each of `world`'s discs under `slabs`, from where they are.
-    fn plan(&self, mut world: World, slabs: Slabs, ghost_width: f64) -> Part {
+    /// Who owns and who holds each of `world`'s discs under `domains`, from where they are.
+    fn plan(&self, mut world: World, domains: Domains, ghost_width: f64) -> Part {
         let me = self.comm.rank() as usize;
         let size = self.size();
         let mut owned = 0;
         let mut send = vec![Vec::new(); size];
         let mut recv = vec![Vec::new(); size];
         let p = world.particles();
-        for (&id, &y) in p.ids().iter().zip(p.y()) {
-            let owner = slabs.owner(y);
+        for ((&id, &x), &y) in p.ids().iter().zip(p.x()).zip(p.y()) {
+            let owner = domains.owner(x, y);
             if owner == me {
                 owned += 1;
                 for (k, list) in send.iter_mut().enumerate() {
-                    if k != me && slabs.gap(y, k) < ghost_width {
+                    if k != me && domains.gap(x, y, k) < ghost_width {
                         list.push(id);
                     }
                 }
@@ -585,7 +692,7 @@ impl<'c> Ranks<'c> {
         for list in send.iter_mut().chain(recv.iter_mut()) {
             list.sort_unstable();
         }
-        let tally = (size > 1).then(|| slabs.tally(me));
+        let tally = (size > 1).then(|| domains.tally(me));
         world.set_tally(tally);
         Part {
             world,
@@ -626,7 +733,7 @@ impl<'c> Ranks<'c> {
         if world.config().max_travel.is_some() {
             let p = world.particles();
             for i in 0..p.len() {
-                if part.tally.is_none_or(|t| t.counts(p.y()[i])) {
+                if part.tally.is_none_or(|t| t.counts(p.x()[i], p.y()[i])) {
                     speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
                     radius = radius.min(p.radius()[i]);
                 }
@@ -734,9 +841,9 @@ impl<'c> Ranks<'c> {
     /// state is right on that slab's rank: the slab lies within the ghost width's reach).
     fn in_my_slab(&self) -> Vec<DiscRecord> {
         let world = &self.part.world;
-        let y = world.particles().y();
+        let p = world.particles();
         (0..world.len())
-            .filter(|&i| self.part.tally.is_none_or(|t| t.counts(y[i])))
+            .filter(|&i| self.part.tally.is_none_or(|t| t.counts(p.x()[i], p.y()[i])))
             .map(|i| world.record(i))
             .collect()
     }
@@ -785,14 +892,14 @@ impl<'c> Ranks<'c> {
         self.refresh()?;
         let me = self.comm.rank() as usize;
         let mine = self.in_my_slab();
-        let ys: Vec<f64> = mine.iter().map(|r| r.position[1]).collect();
-        let slabs = self.cut(&ys, false);
+        let places: Vec<[f64; 2]> = mine.iter().map(|r| r.position).collect();
+        let domains = self.cut(&places, false);
         let ghost_width = self.ghost_width();
         let size = self.size();
         let mut outgoing = vec![Vec::new(); size];
         for r in &mine {
             for (k, words) in outgoing.iter_mut().enumerate() {
-                if k != me && slabs.gap(r.position[1], k) < ghost_width {
+                if k != me && domains.gap(r.position[0], r.position[1], k) < ghost_width {
                     words.extend(r.to_words());
                 }
             }
@@ -809,10 +916,13 @@ impl<'c> Ranks<'c> {
             })
             .filter(|r| world.index_of(r.id).is_none())
             .collect();
-        let y = world.particles().y().to_vec();
-        world.regroup(|i| slabs.gap(y[i], me) < ghost_width, &arriving)?;
+        let (x, y) = (
+            world.particles().x().to_vec(),
+            world.particles().y().to_vec(),
+        );
+        world.regroup(|i| domains.gap(x[i], y[i], me) < ghost_width, &arriving)?;
         let world = std::mem::replace(&mut self.part.world, World::new(bounce::Config::default())?);
-        self.part = self.plan(world, slabs, ghost_width);
+        self.part = self.plan(world, domains, ghost_width);
         self.redistributions += 1;
         Ok(())
     }
@@ -927,24 +1037,71 @@ mod tests {
     use super::*;
 
     #[test]
-    fn slabs_own_every_height_once_and_measure_gaps_across_a_periodic_edge() {
-        let slabs = Slabs {
+    fn cuts_own_every_coordinate_once_and_measure_gaps_across_a_periodic_edge() {
+        let cuts = Cuts {
             cuts: vec![f64::NEG_INFINITY, 3.0, 7.0, f64::INFINITY],
             period: Some((0.0, 10.0)),
         };
-        assert_eq!(slabs.owner(-0.5), 2); // wraps to 9.5
-        assert_eq!(slabs.owner(3.0), 1);
-        assert_eq!(slabs.owner(12.0), 0);
-        assert_eq!(slabs.gap(5.0, 1), 0.0);
-        assert!((slabs.gap(9.5, 0) - 0.5).abs() < 1e-12, "across the edge");
-        assert!((slabs.gap(2.0, 2) - 2.0).abs() < 1e-12, "across the edge");
-        assert!((slabs.gap(2.0, 1) - 1.0).abs() < 1e-12);
-        let walls = Slabs {
+        assert_eq!(cuts.part_of(-0.5), 2); // wraps to 9.5
+        assert_eq!(cuts.part_of(3.0), 1);
+        assert_eq!(cuts.part_of(12.0), 0);
+        assert_eq!(cuts.gap(5.0, 1), 0.0);
+        assert!((cuts.gap(9.5, 0) - 0.5).abs() < 1e-12, "across the edge");
+        assert!((cuts.gap(2.0, 2) - 2.0).abs() < 1e-12, "across the edge");
+        assert!((cuts.gap(2.0, 1) - 1.0).abs() < 1e-12);
+        let walls = Cuts {
             cuts: vec![f64::NEG_INFINITY, 3.0, f64::INFINITY],
             period: None,
         };
         assert_eq!(walls.gap(-100.0, 0), 0.0);
         assert_eq!(walls.gap(1.0, 1), 2.0);
         assert_eq!(walls.gap(5.0, 0), 2.0);
+    }
+
+    #[test]
+    fn domains_tile_the_plane_in_rows_of_columns() {
+        assert_eq!(grid_shape(1), (1, 1));
+        assert_eq!(grid_shape(2), (2, 1));
+        assert_eq!(grid_shape(3), (3, 1));
+        assert_eq!(grid_shape(4), (2, 2));
+        assert_eq!(grid_shape(12), (4, 3));
+        assert_eq!(grid_shape(1000), (40, 25));
+        let inf = f64::INFINITY;
+        let domains = Domains {
+            rows: Cuts {
+                cuts: vec![-inf, 5.0, inf],
+                period: None,
+            },
+            columns: vec![
+                Cuts {
+                    cuts: vec![-inf, 2.0, inf],
+                    period: None,
+                },
+                Cuts {
+                    cuts: vec![-inf, 8.0, inf],
+                    period: None,
+                },
+            ],
+        };
+        assert_eq!(domains.ranks(), 4);
+        assert_eq!(domains.owner(1.0, 1.0), 0);
+        assert_eq!(domains.owner(3.0, 1.0), 1);
+        assert_eq!(domains.owner(3.0, 6.0), 2);
+        assert_eq!(domains.owner(9.0, 6.0), 3);
+        // From (3, 4) to rank 2's domain (x < 8, y >= 5): 1 up; to rank 3's: the corner.
+        assert_eq!(domains.gap(3.0, 4.0, 2), 1.0);
+        assert!((domains.gap(3.0, 4.0, 3) - 26f64.sqrt()).abs() < 1e-12);
+        for k in 0..4 {
+            let t = domains.tally(k);
+            assert_eq!(t.counts(3.0, 6.0), k == 2);
+        }
+        // Cuts by count: 10 in the first bin, 10 spread over the rest.
+        let mut counts = vec![0u64; 10];
+        counts[0] = 10;
+        for c in &mut counts[1..] {
+            *c = 1;
+        }
+        counts[9] = 2;
+        assert_eq!(cuts_by_count(&counts, 0.0, 1.0, 2), vec![-inf, 1.0, inf]);
     }
 }

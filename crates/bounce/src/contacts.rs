@@ -209,7 +209,7 @@ impl Contacts {
         let mut detection = Detection::default();
         for c in &self.list {
             let (a, b) = (c.a as usize, c.b as usize);
-            if !tally.counts(p.y[a]) {
+            if !tally.counts(p.x[a], p.y[a]) {
                 continue;
             }
             let [dx, dy] = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
@@ -482,16 +482,16 @@ impl OrderAxis {
     }
 }
 
-/// Where the order block holding height `y` begins (its lower edge along y), for discs up to
-/// `max_radius` under `config`: a distributed run cuts its slabs there, so each block's
-/// contacts are resolved and counted by one rank.
-pub fn order_block_start(config: &crate::Config, max_radius: f64, y: f64) -> f64 {
+/// Where the order block holding coordinate `v` along `axis` (0: x, 1: y) begins, for discs
+/// up to `max_radius` under `config`: a distributed run cuts its domains there, so each
+/// block's contacts are resolved and counted by one rank.
+pub fn order_block_start(config: &crate::Config, max_radius: f64, axis: usize, v: f64) -> f64 {
     let grid = OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius);
-    let axis = &grid.0[1];
+    let axis = &grid.0[axis.min(1)];
     if axis.single || axis.inv_cell.is_nan() || axis.inv_cell <= 0.0 {
-        return y;
+        return v;
     }
-    let cell = ((y - axis.origin) * axis.inv_cell).floor();
+    let cell = ((v - axis.origin) * axis.inv_cell).floor();
     let start = cell - cell.rem_euclid(2.0);
     axis.origin + start / axis.inv_cell
 }
@@ -626,15 +626,18 @@ mod tests {
             },
         ] {
             let grid = order_grid(&config, 0.5);
-            for y in [-3.3, 0.0, 0.7, 12.34, 50.0, 91.0] {
-                let start = order_block_start(&config, 0.5, y);
-                assert!(start <= y, "{start} <= {y}");
-                // The block's first and last points are in y's block, its next one is not.
-                let block = grid.0[1].block(y);
-                assert_eq!(grid.0[1].block(start + 1e-9), block);
-                let height = 2.0 / grid.0[1].inv_cell;
-                assert_eq!(grid.0[1].block(start + height - 1e-9), block);
-                assert_ne!(grid.0[1].block(start + height + 1e-9), block);
+            for (axis, v) in [0, 1]
+                .into_iter()
+                .flat_map(|a| [-3.3, 0.0, 0.7, 12.34, 50.0, 91.0].map(|v| (a, v)))
+            {
+                let start = order_block_start(&config, 0.5, axis, v);
+                assert!(start <= v, "{start} <= {v}");
+                // The block's first and last points are in v's block, its next one is not.
+                let block = grid.0[axis].block(v);
+                assert_eq!(grid.0[axis].block(start + 1e-9), block);
+                let width = 2.0 / grid.0[axis].inv_cell;
+                assert_eq!(grid.0[axis].block(start + width - 1e-9), block);
+                assert_ne!(grid.0[axis].block(start + width + 1e-9), block);
             }
         }
     }

@@ -113,7 +113,7 @@ pub(crate) fn integrate(
                     let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
                     let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
                     if left != 0.0 || right != 0.0 || bottom != 0.0 || top != 0.0 {
-                        record_hit(impulse, [left, right, bottom, top], *y, tally);
+                        record_hit(impulse, [left, right, bottom, top], [*x, *y], tally);
                     }
                 }
             },
@@ -140,8 +140,13 @@ pub(crate) fn integrate(
 /// Adds a wall hit's impulses, if the tally counts the disc: out of line, so the pass's
 /// per-disc closure stays small enough to be inlined (hits are rare).
 #[inline(never)]
-fn record_hit(impulse: &mut WallSums, hit: [f64; 4], y: f64, tally: Option<crate::part::Tally>) {
-    if tally.is_none_or(|t| t.counts(y)) {
+fn record_hit(
+    impulse: &mut WallSums,
+    hit: [f64; 4],
+    [x, y]: [f64; 2],
+    tally: Option<crate::part::Tally>,
+) {
+    if tally.is_none_or(|t| t.counts(x, y)) {
         impulse.add(hit);
     }
 }

@@ -23,30 +23,37 @@ use crate::stats::StepStats;
 use crate::world::{World, WorldError};
 
 /// Which events a part's sums count: those whose place (after wrapping into a periodic box)
-/// has `lo <= y < hi`. The parts' regions tile the world, so every event is counted once.
+/// lies in a rectangle `[x0, x1) × [y0, y1)`. The parts' rectangles tile the world, so every
+/// event is counted once.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tally {
-    lo: f64,
-    hi: f64,
-    /// `(min, size)` of a periodic box along y.
-    period: Option<(f64, f64)>,
+    /// Per axis: `[lo, hi)`, and `(min, size)` of a periodic box.
+    axes: [(f64, f64, Option<(f64, f64)>); 2],
 }
 
 impl Tally {
-    /// Events with `lo <= y < hi`, where `y` is first wrapped into `[min, min + size)` when
-    /// `period` is `Some((min, size))`. Use infinite ends for the first and last region.
-    pub fn new(lo: f64, hi: f64, period: Option<(f64, f64)>) -> Tally {
-        Tally { lo, hi, period }
+    /// Events with `lo <= v < hi` along each axis (`x` then `y`), `v` first wrapped into
+    /// `[min, min + size)` where that axis's `period` is `Some((min, size))`. Use infinite
+    /// ends at the world's edges.
+    pub fn new(x: [f64; 2], y: [f64; 2], period: [Option<(f64, f64)>; 2]) -> Tally {
+        Tally {
+            axes: [(x[0], x[1], period[0]), (y[0], y[1], period[1])],
+        }
     }
 
-    /// Whether an event at height `y` is counted here.
+    /// Whether an event at `(x, y)` is counted here.
     #[inline]
-    pub fn counts(&self, y: f64) -> bool {
-        let y = match self.period {
-            Some((min, size)) => wrap_coordinate(y, min, size),
-            None => y,
-        };
-        self.lo <= y && y < self.hi
+    pub fn counts(&self, x: f64, y: f64) -> bool {
+        [x, y]
+            .iter()
+            .zip(&self.axes)
+            .all(|(&v, &(lo, hi, period))| {
+                let v = match period {
+                    Some((min, size)) => wrap_coordinate(v, min, size),
+                    None => v,
+                };
+                lo <= v && v < hi
+            })
     }
 }
 
@@ -251,17 +258,23 @@ mod tests {
     use crate::{Boundary, Config, Particle};
 
     #[test]
-    fn a_tally_wraps_periodic_places_and_splits_the_box() {
-        let period = Some((0.0, 10.0));
-        let low = Tally::new(f64::NEG_INFINITY, 5.0, period);
-        let high = Tally::new(5.0, f64::INFINITY, period);
-        for y in [-0.5, 0.0, 4.999, 5.0, 9.99, 10.0, 10.5, 23.0, -17.0] {
-            assert!(low.counts(y) != high.counts(y), "y = {y} counted once");
+    fn tallies_wrap_periodic_places_and_tile_the_box() {
+        let (inf, period) = (f64::INFINITY, [Some((0.0, 10.0)), Some((-5.0, 20.0))]);
+        // Four quarters of a periodic box.
+        let quarters: Vec<Tally> = [[-inf, 5.0], [5.0, inf]]
+            .iter()
+            .flat_map(|&x| [[-inf, 3.0], [3.0, inf]].map(|y| Tally::new(x, y, period)))
+            .collect();
+        for x in [-0.5, 0.0, 4.999, 5.0, 9.99, 10.0, 10.5, 23.0] {
+            for y in [-5.5, -5.0, 2.99, 3.0, 14.9, 15.0, 40.0] {
+                let count = quarters.iter().filter(|t| t.counts(x, y)).count();
+                assert_eq!(count, 1, "({x}, {y}) counted once");
+            }
         }
-        assert!(high.counts(-0.5)); // wraps to 9.5
-        assert!(low.counts(10.5)); // wraps to 0.5
-        let open = Tally::new(1.0, 2.0, None);
-        assert!(open.counts(1.0) && !open.counts(2.0) && !open.counts(11.5));
+        assert!(quarters[3].counts(-0.5, 14.0)); // x wraps to 9.5
+        assert!(quarters[1].counts(10.5, -6.0)); // x wraps to 0.5, y to 14
+        let open = Tally::new([-inf, inf], [1.0, 2.0], [None, None]);
+        assert!(open.counts(7.0, 1.0) && !open.counts(7.0, 2.0) && !open.counts(7.0, 11.5));
     }
 
     #[test]

@@ -78,7 +78,7 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
                         0.5 * (body_a.mass * (out.v1[k] - body_a.velocity[k])
                             - body_b.mass * (out.v2[k] - body_b.velocity[k]))
                     });
-                    if tally.is_none_or(|t| t.counts(y.get(a))) {
+                    if tally.is_none_or(|t| t.counts(x.get(a), y.get(a))) {
                         virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
                     }
                     let (mut xa, mut ya) = (x.get(a) + out.push[0], y.get(a) + out.push[1]);
@@ -146,7 +146,7 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
                 let m = law.mass(r, mass[i]);
                 let [left, right] = touch(x[i], vx, r, m, min[0], max[0]);
                 let [bottom, top] = touch(y[i], vy, r, m, min[1], max[1]);
-                if tally.is_none_or(|t| t.counts(y[i])) {
+                if tally.is_none_or(|t| t.counts(x[i], y[i])) {
                     impulse.add([left, right, bottom, top]);
                 }
             }
