@@ -1,12 +1,13 @@
 //! `mpirun -np R bounce run SCENARIO --out DIR` (cargo feature `mpi`): one world across R
 //! ranks, with the same bits as one process, for any R.
 //!
-//! **Decomposition.** The box is cut across y into R slabs holding about as many discs each
-//! (a histogram of the discs' heights summed over the ranks, so a pile at the bottom of a
-//! box gets thin slabs there), cut on the order grid's block edges (each block's contacts are
-//! one rank's) and recomputed whenever discs are redistributed. A rank *owns*
-//! the discs whose (wrapped) height is in its slab and holds copies, *ghosts*, of every disc
-//! within a ghost width of it.
+//! **Decomposition.** The box is cut into R domains: rows across y, each cut into columns
+//! across x (as square as R divides: 4 ranks make 2 × 2, 1,000 make 40 × 25), each holding
+//! about as many discs (histograms summed over the ranks, so a pile at the bottom of a box
+//! gets thin rows there), cut on the order grid's block edges (each block's contacts are one
+//! rank's) and recomputed whenever discs are redistributed. A rank *owns* the discs whose
+//! (wrapped) place is in its domain and holds copies, *ghosts*, of every disc within a ghost
+//! width of it.
 //!
 //! **One exchange per step.** Each rank steps its discs and ghosts as one `World` part
 //! (`bounce::World::part`). A disc's new state depends only on the discs its step's chains
@@ -22,12 +23,12 @@
 //! **Redistribution.** Ranks keep their discs until the discs' travel (a bound the
 //! broadphase keeps anyway, `bounce::World::travel`) leaves too little of the ghost width
 //! (`G − 2 (travel + stride) < reach`); then, after a refresh, new cuts are made and each
-//! disc in a rank's slab goes to the ranks that will hold it and do not: only the discs that
+//! disc in a rank's domain goes to the ranks that will hold it and do not: only the discs that
 //! change holders move (`bounce::World::regroup`). The parts list their candidate pairs
 //! together, when the first one would have to (a step waits for the slowest part, and a
 //! listing costs several plain steps).
 //!
-//! **Same sums.** Each part counts the contacts and wall hits in its slab
+//! **Same sums.** Each part counts the contacts and wall hits in its domain
 //! (`bounce::World::set_tally`), summed exactly (`bounce::ExactSum`); the ranks add their
 //! sums' lanes. The largest radius sizes every part's order grid. Energies, momenta and
 //! pressures in files are summed in id order on rank 0 from the gathered world. So
@@ -451,7 +452,7 @@ struct Part {
     send: Vec<Vec<ParticleId>>,
     /// Per rank: its discs held here as ghosts (ascending ids).
     recv: Vec<Vec<ParticleId>>,
-    /// Discs within this of a slab are held by its rank.
+    /// Discs within this of a domain are held by its rank.
     ghost_width: f64,
 }
 
@@ -704,7 +705,7 @@ impl<'c> Ranks<'c> {
         }
     }
 
-    /// Discs within this of a slab are held by its rank: the reach, and room for the owners
+    /// Discs within this of a domain are held by its rank: the reach, and room for the owners
     /// to drift `DRIFT_CELLS` order cells each way before a redistribution.
     fn ghost_width(&self) -> f64 {
         let law = bounce::law::Law::new(self.part.world.config());
@@ -724,7 +725,7 @@ impl<'c> Ranks<'c> {
         self.clock[0] += started.elapsed().as_secs_f64();
         // How far discs have moved (bounds from the broadphase's own check: no pass over
         // the discs), and with adaptive substeps the fastest speed and smallest radius over
-        // the discs in this rank's slab (each disc is in one slab, and right there).
+        // the discs in this rank's domain (each disc is in one, and right there).
         let world = &part.world;
         let travel = world.travel();
         let drift = travel.since_start;
@@ -837,9 +838,9 @@ impl<'c> Ranks<'c> {
         Ok(merged)
     }
 
-    /// The records of the discs now in this rank's slab (each disc is in one slab, and its
-    /// state is right on that slab's rank: the slab lies within the ghost width's reach).
-    fn in_my_slab(&self) -> Vec<DiscRecord> {
+    /// The records of the discs now in this rank's domain (each disc is in one, and its
+    /// state is right on that domain's rank: the domain lies within the ghost width's reach).
+    fn in_my_domain(&self) -> Vec<DiscRecord> {
         let world = &self.part.world;
         let p = world.particles();
         (0..world.len())
@@ -887,11 +888,11 @@ impl<'c> Ranks<'c> {
     /// New cuts from where the discs are; every owner sends each of its discs to the ranks
     /// that hold it under them.
     fn redistribute(&mut self) -> Result<()> {
-        // Every disc held anywhere is right after a refresh; each one now in this rank's slab
+        // Every disc held anywhere is right after a refresh; each one now in this rank's domain
         // goes to the ranks that will hold it and do not.
         self.refresh()?;
         let me = self.comm.rank() as usize;
-        let mine = self.in_my_slab();
+        let mine = self.in_my_domain();
         let places: Vec<[f64; 2]> = mine.iter().map(|r| r.position).collect();
         let domains = self.cut(&places, false);
         let ghost_width = self.ghost_width();
@@ -932,7 +933,7 @@ impl<'c> Ranks<'c> {
     fn gather(&mut self, stats: &StepStats) -> Result<Option<World>> {
         let world = &self.part.world;
         let words: Vec<f64> = self
-            .in_my_slab()
+            .in_my_domain()
             .iter()
             .flat_map(DiscRecord::to_words)
             .collect();

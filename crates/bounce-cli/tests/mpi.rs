@@ -1,5 +1,5 @@
 //! `mpirun -np R bounce run`: the same bits as one process for R = 1..4, checkpoints that
-//! resume with any R, slabs cut by count, and failures that end the whole job.
+//! resume with any R, domains cut by count, and failures that end the whole job.
 //!
 //! Needs Open MPI's `mpirun` (`scripts/test` installs it and turns on the feature `mpi`).
 //! Every `mpirun` runs under `timeout`, so a hang fails the test instead of stalling it.
@@ -128,7 +128,7 @@ fn assert_holds_layers(owned: &[u64], ghosts: &[u64], total: u64) {
 
 #[test]
 fn a_gas_in_walls_gives_the_same_bits_on_any_number_of_ranks() {
-    // 6,000 discs of radii 0.3-0.9 in a 200 x 200 box: slabs of 50 with ghost layers
+    // 6,000 discs of radii 0.3-0.9 in a 200 x 200 box: domains of 100 x 100 (4 ranks) with ghost layers
     // narrower than them, so discs really are owned, copied and handed over.
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "gas.toml",
@@ -148,7 +148,7 @@ fn a_gas_in_walls_gives_the_same_bits_on_any_number_of_ranks() {
 
 #[test]
 fn a_periodic_gas_gives_the_same_bits_on_any_number_of_ranks() {
-    // Ghosts across the periodic edge: the first and last slabs are neighbours.
+    // Ghosts across the periodic edges: the first and last rows and columns are neighbours.
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "gas.toml",
         &sets(&[
@@ -168,7 +168,7 @@ fn a_periodic_gas_gives_the_same_bits_on_any_number_of_ranks() {
 #[test]
 fn a_settling_pile_gives_the_same_bits_on_any_number_of_ranks() {
     // The shipped pile (4 substeps: every rank's ghost layer spans the box) and a tall one
-    // with one substep whose slabs have real ghost layers, through the fall and the
+    // with one substep whose domains have real ghost layers, through the fall and the
     // settling; and with three solver passes (contacts lowest first, walls as contacts).
     same_bits_for_1_to_4_ranks("pile.toml", &sets(&["time.steps=300"]), "pile");
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
@@ -238,9 +238,9 @@ fn checkpoints_resume_with_any_number_of_ranks_or_none() {
 }
 
 #[test]
-fn slabs_are_cut_by_count_where_the_discs_are() {
-    // All 6,000 discs start in the bottom fifth of the box: slabs of equal height would
-    // give them all to rank 0.
+fn domains_are_cut_by_count_where_the_discs_are() {
+    // All 6,000 discs start in the bottom fifth of the box: domains of equal size would
+    // give them all to the bottom row (ranks 0 and 1).
     let dir = tempfile::tempdir().unwrap();
     let stdout = ok(
         run(
