@@ -318,7 +318,7 @@ fn a_signal_stops_every_rank_with_its_outputs_and_a_checkpoint_that_resumes() {
         "time.steps=1000000",
         "output.gsd_every=20",
     ]);
-    let mut child = Command::new("mpirun")
+    let child = Command::new("mpirun")
         .args(["-np", "2", BOUNCE, "run"])
         .arg(scenarios().join("gas.toml"))
         .arg("--out")

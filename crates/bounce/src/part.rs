@@ -27,8 +27,15 @@ use crate::world::{World, WorldError};
 /// event is counted once.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tally {
-    /// Per axis: `[lo, hi)`, and `(min, size)` of a periodic box.
-    axes: [(f64, f64, Option<(f64, f64)>); 2],
+    axes: [Span; 2],
+}
+
+/// One axis of a [`Tally`]: `[lo, hi)`, and `(min, size)` of a periodic box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Span {
+    lo: f64,
+    hi: f64,
+    period: Option<(f64, f64)>,
 }
 
 impl Tally {
@@ -36,24 +43,22 @@ impl Tally {
     /// `[min, min + size)` where that axis's `period` is `Some((min, size))`. Use infinite
     /// ends at the world's edges.
     pub fn new(x: [f64; 2], y: [f64; 2], period: [Option<(f64, f64)>; 2]) -> Tally {
+        let span = |[lo, hi]: [f64; 2], period| Span { lo, hi, period };
         Tally {
-            axes: [(x[0], x[1], period[0]), (y[0], y[1], period[1])],
+            axes: [span(x, period[0]), span(y, period[1])],
         }
     }
 
     /// Whether an event at `(x, y)` is counted here.
     #[inline]
     pub fn counts(&self, x: f64, y: f64) -> bool {
-        [x, y]
-            .iter()
-            .zip(&self.axes)
-            .all(|(&v, &(lo, hi, period))| {
-                let v = match period {
-                    Some((min, size)) => wrap_coordinate(v, min, size),
-                    None => v,
-                };
-                lo <= v && v < hi
-            })
+        [x, y].iter().zip(&self.axes).all(|(&v, span)| {
+            let v = match span.period {
+                Some((min, size)) => wrap_coordinate(v, min, size),
+                None => v,
+            };
+            span.lo <= v && v < span.hi
+        })
     }
 }
 
