@@ -333,7 +333,14 @@ fn a_signal_stops_every_rank_with_its_outputs_and_a_checkpoint_that_resumes() {
         .stdout(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs(4));
+    // Once the run has started writing (its output folder has files), and a moment more.
+    let started = std::time::Instant::now();
+    while std::fs::read_dir(&out).map_or(true, |mut d| d.next().is_none())
+        && started.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    std::thread::sleep(std::time::Duration::from_secs(2));
     // SIGTERM to mpirun, which forwards it to the ranks.
     let killed = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
