@@ -49,7 +49,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use bounce::{
-    Boundary, DiscRecord, ExactSum, ParticleId, StepStats, Tally, WallImpulse, World,
+    Boundary, DiscRecord, ExactSum, ParticleId, StepStats, StepSums, Tally, WallImpulse, World,
     wrap_coordinate,
 };
 use bounce_scenario::Session;
@@ -730,16 +730,11 @@ impl<'c> Ranks<'c> {
         let travel = world.travel();
         let drift = travel.since_start;
         let stride = (travel.since_start - before.since_start) + 2.0 * before.since_listing;
-        let (mut speed2, mut radius) = (0.0f64, f64::INFINITY);
-        if world.config().max_travel.is_some() {
-            let p = world.particles();
-            for i in 0..p.len() {
-                if part.tally.is_none_or(|t| t.counts(p.x()[i], p.y()[i])) {
-                    speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
-                    radius = radius.min(p.radius()[i]);
-                }
-            }
-        }
+        let (speed2, radius) = if world.config().max_travel.is_some() {
+            extremes_in(world, part.tally)
+        } else {
+            (0.0, f64::INFINITY)
+        };
         // Where this part's candidate list will be after another step like this one.
         let worn = world.candidates_worn().unwrap_or(0.0);
         let worn_next = worn + (worn - worn_before).max(0.0);
@@ -758,30 +753,8 @@ impl<'c> Ranks<'c> {
         let mut all = [0.0; 8];
         self.comm
             .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
-        // The step's sums: pairs and the exact sums' lanes (integers), then their
-        // non-finite parts.
-        let sums = world.step_sums();
-        let exact = [
-            &sums.virial,
-            &sums.walls.walls[0],
-            &sums.walls.walls[1],
-            &sums.walls.walls[2],
-            &sums.walls.walls[3],
-        ];
-        let mut lanes = vec![stats.pairs as i64];
-        let mut special = [0.0; SUMS];
-        for (k, sum) in exact.iter().enumerate() {
-            let words = sum.to_words();
-            lanes.extend_from_slice(&words[..ExactSum::WORDS - 1]);
-            special[k] = f64::from_bits(words[ExactSum::WORDS - 1] as u64);
-        }
-        let mut lanes_all = vec![0i64; lanes.len()];
-        self.comm
-            .all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
-        let mut special_all = [0.0; SUMS];
-        self.comm
-            .all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
-        self.sent[2] += ((flags.len() + lanes.len() + special.len()) * 8) as u64;
+        let step_sums = world.step_sums().clone();
+        let (pairs, sums) = self.add_sums(stats.pairs, &step_sums);
         self.steps += 1;
         self.clock[1] += reducing.elapsed().as_secs_f64();
 
@@ -802,19 +775,15 @@ impl<'c> Ranks<'c> {
         self.stride = all[3];
         self.max_speed2 = all[5];
         self.min_radius = -all[6];
-        let value = |k: usize| {
-            let at = 1 + k * (ExactSum::WORDS - 1);
-            ExactSum::from_words(&lanes_all[at..at + ExactSum::WORDS - 1], special_all[k]).value()
-        };
         let merged = StepStats {
-            pairs: lanes_all[0] as usize,
+            pairs,
             max_overlap: all[4],
-            virial: 0.5 * value(0) / self.dt,
+            virial: 0.5 * sums[0] / self.dt,
             wall_impulse: WallImpulse {
-                left: value(1),
-                right: value(2),
-                bottom: value(3),
-                top: value(4),
+                left: sums[1],
+                right: sums[2],
+                bottom: sums[3],
+                top: sums[4],
             },
             substeps,
             ..stats
@@ -847,6 +816,39 @@ impl<'c> Ranks<'c> {
             .filter(|&i| self.part.tally.is_none_or(|t| t.counts(p.x()[i], p.y()[i])))
             .map(|i| world.record(i))
             .collect()
+    }
+
+    /// The whole step's pair count and exact sums (virial, then the four walls), from every
+    /// part's: the counts and the sums' lanes are integers added by one reduction, the
+    /// non-finite parts by another (their sum does not depend on order either).
+    fn add_sums(&mut self, pairs: usize, sums: &StepSums) -> (usize, [f64; SUMS]) {
+        let exact = [
+            &sums.virial,
+            &sums.walls.walls[0],
+            &sums.walls.walls[1],
+            &sums.walls.walls[2],
+            &sums.walls.walls[3],
+        ];
+        let lanes_per_sum = ExactSum::WORDS - 1;
+        let mut lanes = vec![pairs as i64];
+        let mut special = [0.0; SUMS];
+        for (k, sum) in exact.iter().enumerate() {
+            let words = sum.to_words();
+            lanes.extend_from_slice(&words[..lanes_per_sum]);
+            special[k] = f64::from_bits(words[lanes_per_sum] as u64);
+        }
+        let mut lanes_all = vec![0i64; lanes.len()];
+        self.comm
+            .all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
+        let mut special_all = [0.0; SUMS];
+        self.comm
+            .all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
+        self.sent[2] += ((lanes.len() + special.len()) * 8) as u64;
+        let value = |k: usize| {
+            let at = 1 + k * lanes_per_sum;
+            ExactSum::from_words(&lanes_all[at..at + lanes_per_sum], special_all[k]).value()
+        };
+        (lanes_all[0] as usize, [0, 1, 2, 3, 4].map(value))
     }
 
     /// Owners send their discs' states to the ranks holding them as ghosts.
@@ -1000,6 +1002,20 @@ impl<'c> Ranks<'c> {
             per(3),
         )
     }
+}
+
+/// The fastest squared speed and the smallest radius among `world`'s discs that `tally`
+/// counts (all without one).
+fn extremes_in(world: &World, tally: Option<Tally>) -> (f64, f64) {
+    let p = world.particles();
+    let (mut speed2, mut radius) = (0.0f64, f64::INFINITY);
+    for i in 0..p.len() {
+        if tally.is_none_or(|t| t.counts(p.x()[i], p.y()[i])) {
+            speed2 = speed2.max(p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i]);
+            radius = radius.min(p.radius()[i]);
+        }
+    }
+    (speed2, radius)
 }
 
 fn displacements(counts: &[Count]) -> Vec<Count> {
