@@ -59,9 +59,9 @@ use mpi::datatype::{Partition, PartitionMut};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
-use crate::checkpoint;
 use crate::run::{
-    Outcome, Outputs, Report, RunArgs, Schedule, mechanical_energy, prepare_out_dir, progress_bar,
+    Outcome, Outputs, Report, RunArgs, Schedule, load_session, mechanical_energy, prepare_out_dir,
+    progress_bar,
 };
 
 /// Height bins of the histogram the cuts are taken from.
@@ -183,49 +183,20 @@ fn run(
     let setup = Instant::now();
     let root = comm.rank() == 0;
     // Every rank builds the scenario (deterministic) and, resuming, loads the checkpoint.
-    let loaded = (|| -> Result<_> {
-        let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
-        check_supported(&session)?;
-        let mut run_state = None;
-        if let Some(path) = &args.resume {
-            let loaded = checkpoint::load(path)?;
-            session
-                .resume(loaded.world, &path.display().to_string())
-                .map_err(|e| anyhow!(e))?;
-            run_state = Some(loaded.run.unwrap_or_default());
-        }
-        let total = args.steps.unwrap_or(session.steps);
-        let start = session.world.step_count();
-        if start >= total {
-            bail!(
-                "nothing to do: the world is at step {start} and the run ends at step {total} (use --steps)"
-            );
-        }
-        Ok((session, run_state, total))
-    })();
+    let loaded = load_session(args).and_then(|loaded| check_supported(&loaded.0).map(|()| loaded));
     let (session, run_state, total) = agree(comm, loaded)?;
-    let schedule = || Schedule {
-        total,
-        output: session.output.clone(),
-    };
     // Rank 0 alone writes.
     let outputs = if root {
-        (|| -> Result<_> {
-            prepare_out_dir(&args.out, args.resume.is_some(), args.force)?;
-            Ok(Some(match run_state {
-                Some(run) => Outputs::resume(&session, &args.out, schedule(), run)?,
-                None => {
-                    let mut outputs = Outputs::create(&session, &args.out, schedule())?;
-                    outputs.record(&session.world)?;
-                    outputs
-                }
-            }))
-        })()
+        prepare_out_dir(&args.out, args.resume.is_some(), args.force)
+            .and_then(|()| Outputs::start(&session, &args.out, total, run_state).map(Some))
     } else {
         Ok(None)
     };
     let mut outputs = agree(comm, outputs)?;
-    let schedule = schedule();
+    let schedule = Schedule {
+        total,
+        output: session.output.clone(),
+    };
     let energy_start = mechanical_energy(&session.world);
     let time_step = session.time_step_report().to_string();
     let start_step = session.world.step_count();
@@ -537,8 +508,7 @@ impl<'c> Ranks<'c> {
     /// disc may move in it.
     fn reach(&self) -> f64 {
         let config = self.part.world.config();
-        let law = bounce::law::Law::new(config);
-        let cell = law.reach(1.01 * 2.0 * self.max_radius);
+        let cell = bounce::order_cell_width(config, self.max_radius);
         let substeps = self.substeps() as f64;
         let passes = f64::from(config.solver_iterations);
         let [gx, gy] = config.gravity;
@@ -708,8 +678,8 @@ impl<'c> Ranks<'c> {
     /// Discs within this of a domain are held by its rank: the reach, and room for the owners
     /// to drift `DRIFT_CELLS` order cells each way before a redistribution.
     fn ghost_width(&self) -> f64 {
-        let law = bounce::law::Law::new(self.part.world.config());
-        self.reach() + 2.0 * DRIFT_CELLS * law.reach(1.01 * 2.0 * self.max_radius)
+        let cell = bounce::order_cell_width(self.part.world.config(), self.max_radius);
+        self.reach() + 2.0 * DRIFT_CELLS * cell
     }
 
     /// One step of the whole world; returns its statistics (the same on every rank).
@@ -753,8 +723,8 @@ impl<'c> Ranks<'c> {
         let mut all = [0.0; 8];
         self.comm
             .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
-        let step_sums = world.step_sums().clone();
-        let (pairs, sums) = self.add_sums(stats.pairs, &step_sums);
+        let (pairs, sums, bytes) = add_sums(self.comm, stats.pairs, world.step_sums());
+        self.sent[2] += bytes;
         self.steps += 1;
         self.clock[1] += reducing.elapsed().as_secs_f64();
 
@@ -817,40 +787,6 @@ impl<'c> Ranks<'c> {
             .map(|i| world.record(i))
             .collect()
     }
-
-    /// The whole step's pair count and exact sums (virial, then the four walls), from every
-    /// part's: the counts and the sums' lanes are integers added by one reduction, the
-    /// non-finite parts by another (their sum does not depend on order either).
-    fn add_sums(&mut self, pairs: usize, sums: &StepSums) -> (usize, [f64; SUMS]) {
-        let exact = [
-            &sums.virial,
-            &sums.walls.walls[0],
-            &sums.walls.walls[1],
-            &sums.walls.walls[2],
-            &sums.walls.walls[3],
-        ];
-        let lanes_per_sum = ExactSum::WORDS - 1;
-        let mut lanes = vec![pairs as i64];
-        let mut special = [0.0; SUMS];
-        for (k, sum) in exact.iter().enumerate() {
-            let words = sum.to_words();
-            lanes.extend_from_slice(&words[..lanes_per_sum]);
-            special[k] = f64::from_bits(words[lanes_per_sum] as u64);
-        }
-        let mut lanes_all = vec![0i64; lanes.len()];
-        self.comm
-            .all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
-        let mut special_all = [0.0; SUMS];
-        self.comm
-            .all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
-        self.sent[2] += ((lanes.len() + special.len()) * 8) as u64;
-        let value = |k: usize| {
-            let at = 1 + k * lanes_per_sum;
-            ExactSum::from_words(&lanes_all[at..at + lanes_per_sum], special_all[k]).value()
-        };
-        (lanes_all[0] as usize, [0, 1, 2, 3, 4].map(value))
-    }
-
     /// Owners send their discs' states to the ranks holding them as ghosts.
     fn refresh(&mut self) -> Result<()> {
         let part = &self.part;
@@ -1002,6 +938,37 @@ impl<'c> Ranks<'c> {
             per(3),
         )
     }
+}
+
+/// The whole step's pair count and exact sums (virial, then the four walls), from every
+/// part's, and the bytes this rank sent: the counts and the sums' lanes are integers added by
+/// one reduction, the non-finite parts by another (their sum does not depend on order either).
+fn add_sums(comm: &SimpleCommunicator, pairs: usize, sums: &StepSums) -> (usize, [f64; SUMS], u64) {
+    let exact = [
+        &sums.virial,
+        &sums.walls.walls[0],
+        &sums.walls.walls[1],
+        &sums.walls.walls[2],
+        &sums.walls.walls[3],
+    ];
+    let lanes_per_sum = ExactSum::WORDS - 1;
+    let mut lanes = vec![pairs as i64];
+    let mut special = [0.0; SUMS];
+    for (k, sum) in exact.iter().enumerate() {
+        let words = sum.to_words();
+        lanes.extend_from_slice(&words[..lanes_per_sum]);
+        special[k] = f64::from_bits(words[lanes_per_sum] as u64);
+    }
+    let mut lanes_all = vec![0i64; lanes.len()];
+    comm.all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
+    let mut special_all = [0.0; SUMS];
+    comm.all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
+    let bytes = ((lanes.len() + special.len()) * 8) as u64;
+    let value = |k: usize| {
+        let at = 1 + k * lanes_per_sum;
+        ExactSum::from_words(&lanes_all[at..at + lanes_per_sum], special_all[k]).value()
+    };
+    (lanes_all[0] as usize, [0, 1, 2, 3, 4].map(value), bytes)
 }
 
 /// The fastest squared speed and the smallest radius among `world`'s discs that `tally`

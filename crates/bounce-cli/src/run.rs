@@ -61,29 +61,15 @@ const RUN_FILES: [&str; 5] = [
 /// everything and returns [`Outcome::Stopped`].
 pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let setup = Instant::now();
-    let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
+    let (mut session, run_state, total) = load_session(args)?;
     prepare_out_dir(&args.out, args.resume.is_some(), args.force)?;
-    let mut run_state = None;
-    if let Some(path) = &args.resume {
-        let loaded = checkpoint::load(path)?;
-        session
-            .resume(loaded.world, &path.display().to_string())
-            .map_err(|e| anyhow!(e))?;
-        run_state = Some(loaded.run.unwrap_or_default());
-    }
     // Kept to replay from, should a step overflow.
     let start_world = checkpoint::encode(&session.world, run_state.as_ref())?;
     session
         .world
         .set_threads(args.threads)
         .context("cannot start the worker threads")?;
-    let total = args.steps.unwrap_or(session.steps);
     let start_step = session.world.step_count();
-    if start_step >= total {
-        bail!(
-            "nothing to do: the world is at step {start_step} and the run ends at step {total} (use --steps)"
-        );
-    }
 
     let time_step = session.time_step_report();
     let energy_start = mechanical_energy(&session.world);
@@ -95,18 +81,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
             session.world.config().gravity
         );
     }
-    let schedule = Schedule {
-        total,
-        output: session.output.clone(),
-    };
-    let mut outputs = match run_state {
-        Some(run) => Outputs::resume(&session, &args.out, schedule, run)?,
-        None => {
-            let mut outputs = Outputs::create(&session, &args.out, schedule)?;
-            outputs.record(&session.world)?;
-            outputs
-        }
-    };
+    let mut outputs = Outputs::start(&session, &args.out, total, run_state)?;
     let setup_time = setup.elapsed().as_secs_f64();
 
     let progress = progress_bar(total - start_step, args.quiet);
@@ -230,6 +205,28 @@ impl Report<'_> {
         );
         Outcome::Stopped(signal)
     }
+}
+
+/// The run's scenario (resumed from `--resume`'s checkpoint, with the totals it kept, when
+/// given) and the step the run ends at; refused when there is nothing to do.
+pub(crate) fn load_session(args: &RunArgs) -> Result<(Session, Option<RunState>, u64)> {
+    let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
+    let mut run_state = None;
+    if let Some(path) = &args.resume {
+        let loaded = checkpoint::load(path)?;
+        session
+            .resume(loaded.world, &path.display().to_string())
+            .map_err(|e| anyhow!(e))?;
+        run_state = Some(loaded.run.unwrap_or_default());
+    }
+    let total = args.steps.unwrap_or(session.steps);
+    let start_step = session.world.step_count();
+    if start_step >= total {
+        bail!(
+            "nothing to do: the world is at step {start_step} and the run ends at step {total} (use --steps)"
+        );
+    }
+    Ok((session, run_state, total))
 }
 
 /// Kinetic plus potential energy (the potential is zero without gravity).
@@ -383,7 +380,29 @@ pub(crate) struct Outputs {
 }
 
 impl Outputs {
-    pub(crate) fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
+    /// The outputs of a run to step `total` in `dir`: continued from a checkpoint's totals
+    /// (`run`), or created with the starting step written.
+    pub(crate) fn start(
+        session: &Session,
+        dir: &Path,
+        total: u64,
+        run: Option<RunState>,
+    ) -> Result<Self> {
+        let schedule = Schedule {
+            total,
+            output: session.output.clone(),
+        };
+        Ok(match run {
+            Some(run) => Outputs::resume(session, dir, schedule, run)?,
+            None => {
+                let mut outputs = Outputs::create(session, dir, schedule)?;
+                outputs.record(&session.world)?;
+                outputs
+            }
+        })
+    }
+
+    fn create(session: &Session, dir: &Path, schedule: Schedule) -> Result<Self> {
         let world = &session.world;
         let total_mass = bounce_scenario::analysis::total_mass(world);
         let gsd = if schedule.output.gsd_every > 0 {
@@ -411,12 +430,7 @@ impl Outputs {
     }
 
     /// Continues the outputs in `dir` from the world's step (a checkpoint's).
-    pub(crate) fn resume(
-        session: &Session,
-        dir: &Path,
-        schedule: Schedule,
-        run: RunState,
-    ) -> Result<Self> {
+    fn resume(session: &Session, dir: &Path, schedule: Schedule, run: RunState) -> Result<Self> {
         let world = &session.world;
         let k = world.step_count();
         let total_mass = bounce_scenario::analysis::total_mass(world);

@@ -482,6 +482,20 @@ impl OrderAxis {
     }
 }
 
+/// The order grid's cell width for discs up to `max_radius` (before a periodic box rounds
+/// it to fit): 1.01 times the largest collision distance.
+fn cell_width(law: &Law, max_radius: f64) -> f64 {
+    // The same bits as `CELL_MARGIN * 2.0 * max_radius * collision_radius_scale`.
+    law.reach(CELL_MARGIN * 2.0 * max_radius)
+}
+
+/// The order grid's cell width for discs up to `max_radius` under `config` (a periodic box
+/// rounds it up to fit a whole number of cells): how far a contact reaches, and the unit in
+/// which a distributed run measures its ghost layers.
+pub fn order_cell_width(config: &crate::Config, max_radius: f64) -> f64 {
+    cell_width(&Law::new(config), max_radius)
+}
+
 /// Where the order block holding coordinate `v` along `axis` (0: x, 1: y) begins, for discs
 /// up to `max_radius` under `config`: a distributed run cuts its domains there, so each
 /// block's contacts are resolved and counted by one rank.
@@ -502,8 +516,7 @@ struct OrderGrid([OrderAxis; 2]);
 
 impl OrderGrid {
     fn new(geometry: &Geometry, law: &Law, max_radius: f64) -> Self {
-        // The same bits as `CELL_MARGIN * 2.0 * max_radius * collision_radius_scale`.
-        let cell = law.reach(CELL_MARGIN * 2.0 * max_radius);
+        let cell = cell_width(law, max_radius);
         OrderGrid([0, 1].map(|axis| match geometry.order_axis(axis) {
             OrderAxisFrame {
                 origin,

@@ -41,7 +41,7 @@
 mod broadphase;
 mod config;
 mod contacts;
-pub use contacts::order_block_start;
+pub use contacts::{order_block_start, order_cell_width};
 mod context;
 mod geometry;
 mod integrate;

@@ -98,13 +98,8 @@ impl Travel {
             return;
         }
         let d = displacement2.sqrt();
-        if rebuilt {
-            self.since_start = done + d;
-            self.since_listing = 0.0;
-        } else {
-            self.since_start = done + d;
-            self.since_listing = d;
-        }
+        self.since_start = done + d;
+        self.since_listing = if rebuilt { 0.0 } else { d };
     }
 }
 

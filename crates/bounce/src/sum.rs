@@ -85,16 +85,14 @@ impl ExactSum {
         let Some(theirs) = &other.lanes else {
             return;
         };
-        // Both normalised, each lane is below 2^32 in magnitude: the sum stays far from
-        // overflow.
+        // Ours normalised (each lane below 2^32 in magnitude) and theirs below 2^30
+        // additions of less than 2^32 each: the lane sums stay within `i64`.
         self.carry();
-        let mut theirs = theirs.clone();
-        carry_lanes(&mut theirs);
         let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
         for (mine, theirs) in lanes.iter_mut().zip(theirs.iter()) {
             *mine += theirs;
         }
-        self.adds = 2;
+        self.carry();
     }
 
     /// Propagates carries so every lane but the top one lies in `[0, 2^32)`.
