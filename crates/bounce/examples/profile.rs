@@ -1,8 +1,14 @@
-//! Per-stage time of the benchmark scenes:
-//! `cargo run --release --example profile [COUNT] [THREADS] [STEPS] [gas|pile|poly]`.
+//! Per-stage time of the benchmark scenes, for profiling one change at a time:
+//! `cargo run --release --example profile [COUNT] [THREADS] [STEPS] [gas|pile|poly|fast] [SETTLED]`.
+//!
+//! `pile` is the gas's discs under gravity (e = 0.7, 4 substeps). With `SETTLED`, a file of
+//! little-endian `f64` triples (x, y, radius), such as the benchmark harness's settled pile
+//! (`target/bench/cache/pile-settled-100k.f64`), the discs start there at rest and the first
+//! 30 steps are not timed. Prints the mean, median and 99th percentile ms per step (rebuilds
+//! included) and the mean per stage.
 
 use bounce::scene::{self, Speeds};
-use bounce::{StepProfile, World};
+use bounce::{Particle, StepProfile, World};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -14,31 +20,46 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let threads: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(1);
     let steps: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(20);
     let kind = args.next().unwrap_or_else(|| "gas".into());
-    let radius = if kind == "poly" {
-        [0.1, 2.5]
-    } else {
-        [0.5, 0.5]
+    let settled = args.next();
+    let (radius, speed) = match kind.as_str() {
+        "poly" => ([0.05, 5.0], 2.0),
+        "fast" => ([0.5, 0.5], 40.0),
+        _ => ([0.5, 0.5], 2.0),
     };
-    let (mut config, discs) = scene::gas_in_walls(count, radius, 0.3, Speeds::Uniform(2.0), 1)?;
+    let (mut config, mut discs) =
+        scene::gas_in_walls(count, radius, 0.3, Speeds::Uniform(speed), 1)?;
+    let mut warm_up = 0;
     if kind == "pile" {
         config.gravity = [0.0, -9.81];
         config.coefficient_of_restitution = 0.7;
         config.substeps = 4;
+        if let Some(path) = settled {
+            let bytes = std::fs::read(&path)?;
+            let f = |k: usize| f64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap());
+            discs = (0..bytes.len() / 24)
+                .map(|i| Particle::new([f(3 * i), f(3 * i + 1)], [0.0, 0.0], f(3 * i + 2)))
+                .collect();
+            warm_up = 30;
+        }
     }
     let mut world = World::new(config)?;
     world
         .add_particles(discs)
         .map_err(|(i, e)| format!("{i}: {e}"))?;
     world.set_threads(threads)?;
+    for _ in 0..warm_up {
+        world.step(1.0 / 60.0)?;
+    }
     let mut sum = StepProfile::default();
     let mut totals = Vec::new();
     let mut pairs = 0;
     let mut rebuilds = 0;
     let mut rebuild_ms = Vec::new();
     for _ in 0..steps {
+        let clock = std::time::Instant::now();
         pairs += world.step(1.0 / 60.0)?.pairs;
+        totals.push(clock.elapsed().as_secs_f64());
         let p = world.profile();
-        totals.push(p.total());
         rebuilds += p.rebuilds;
         if p.rebuilds > 0 {
             rebuild_ms.push(format!("{:.1}", p.bin * 1e3));
@@ -50,17 +71,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sum.measure += p.measure;
     }
     let ms = |s: f64| s * 1e3 / steps as f64;
+    let mean = totals.iter().sum::<f64>() / steps as f64;
     totals.sort_by(f64::total_cmp);
+    let quantile = |q: f64| totals[((steps - 1) as f64 * q).round() as usize] * 1e3;
     println!(
-        "{kind} {count} discs, {threads} threads, {} colliding pairs per step, {rebuilds} rebuilds in {steps} steps, median {:.2} ms/step; mean ms/step: integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2} total {:.2}",
+        "{kind} {} discs, {threads} threads, {} contacts per step, {rebuilds} rebuilds in {steps} steps, state {:016x}",
+        world.len(),
         pairs / steps,
-        totals[steps / 2] * 1e3,
+        world.state_hash()
+    );
+    println!(
+        "ms/step: mean {:.2} median {:.2} p99 {:.2}; stages (mean): integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2}",
+        mean * 1e3,
+        quantile(0.5),
+        quantile(0.99),
         ms(sum.integrate),
         ms(sum.bin),
         ms(sum.pairs),
         ms(sum.resolve),
         ms(sum.measure),
-        ms(sum.total())
     );
     println!("rebuild ms: {}", rebuild_ms.join(" "));
     Ok(())

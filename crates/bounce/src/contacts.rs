@@ -21,7 +21,7 @@
 
 use std::ops::Range;
 
-use crate::broadphase::{Broadphase, Pair, floor_to_isize};
+use crate::broadphase::{BANDS, Broadphase, Pair, floor_to_isize};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, OrderAxisFrame};
 use crate::law::Law;
@@ -120,11 +120,13 @@ impl BlockBounds {
 }
 
 impl Contacts {
-    /// Tests every candidate of `broadphase` (which must cover the current positions) and
-    /// puts the colliding pairs in canonical order.
+    /// Tests the candidates of `broadphase` (which must cover the current positions) in its
+    /// first `bands` bands (the others cannot collide: see `Bands`) and puts the colliding
+    /// pairs in canonical order.
     pub(crate) fn find(
         &mut self,
         broadphase: &Broadphase,
+        bands: usize,
         p: &Particles,
         ctx: &StepContext,
     ) -> Detection {
@@ -142,8 +144,13 @@ impl Contacts {
             Some(p.len()),
             "stale candidate list"
         );
+        let bands = bands.clamp(1, BANDS);
         // About one unit of work per candidate.
-        let work = candidates.iter().map(Vec::len).sum();
+        let work = candidates
+            .iter()
+            .flat_map(|b| &b[..bands])
+            .map(Vec::len)
+            .sum();
         // One loop per case, so the common ones (no minimum image; all radii equal, when the
         // collision distance is one constant with the same bits) do no extra work.
         let periodic = min_image.is_periodic();
@@ -152,11 +159,12 @@ impl Contacts {
         let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
         let pair = |i: usize, j: usize| law.collision_distance(p.radius[i], p.radius[j]);
         let found = ctx.exec.map_mut(work, &mut self.found, |block, found| {
-            let (pairs, grid) = (&candidates[block], &grid);
+            let (pairs, grid) = (&candidates[block][..bands], &grid);
+            found.clear();
             // SAFETY: every candidate indexes the current storage of `p` (asserted above:
             // the list was made for exactly these discs).
-            let overlap = unsafe {
-                match (periodic, uniform) {
+            let overlap = pairs.iter().fold(0.0f64, |overlap, pairs| unsafe {
+                overlap.max(match (periodic, uniform) {
                     (false, Some(r)) => {
                         let d = law.collision_distance(r, r);
                         test(pairs, p, grid, found, plain, |_, _| d)
@@ -167,8 +175,8 @@ impl Contacts {
                     }
                     (false, None) => test(pairs, p, grid, found, plain, pair),
                     (true, None) => test(pairs, p, grid, found, image, pair),
-                }
-            };
+                })
+            });
             // The blocks these contacts fall in, while they are still in cache.
             (overlap, BlockBounds::of(found))
         });
@@ -387,7 +395,7 @@ fn ordered_bits(v: f64) -> u64 {
     }
 }
 
-/// Tests candidate pairs with the seed's rule, writing contacts to `found`; returns the
+/// Tests candidate pairs with the seed's rule, adding contacts to `found`; returns the
 /// largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box) and `reach` the
 /// collision distance of a pair.
 ///
@@ -402,7 +410,6 @@ unsafe fn test(
     diff: impl Fn(f64, f64, f64, f64) -> [f64; 2],
     reach: impl Fn(usize, usize) -> f64,
 ) -> f64 {
-    found.clear();
     let mut max_overlap = 0.0f64;
     let (x, y) = (&p.x[..], &p.y[..]);
     // Screen: the candidates within the squared reach (with a margin), written branch-free

@@ -5,11 +5,15 @@
 //! of one level, the cell visited first by the forward half-stencil. A disc meets discs of its
 //! own level through the 3×3 stencil, and discs of each coarser level through the at most
 //! 3×3 cells of that grid under its reach (coarser cells are at least that reach). Blocks of
-//! whole cell rows list in parallel, each into its own list, in storage order.
+//! whole cell rows list in parallel, each into its own lists, in storage order.
+//!
+//! Each block's pairs go into two bands by how far they were from colliding (see `Bands`):
+//! a pair of the far band was more than half the margin beyond its collision distance, so
+//! until the discs have moved that far it cannot collide, and detection skips the band.
 
 use std::ops::Range;
 
-use super::Pair;
+use super::Bands;
 use super::levels::{LevelGrid, floor_to_isize};
 use super::sort::Block;
 use crate::context::StepContext;
@@ -27,7 +31,7 @@ pub(super) fn list_candidates(
     [x, y, radius]: [&[f64]; 3],
     ctx: &StepContext,
     margin: f64,
-    candidates: &mut [Vec<Pair>],
+    candidates: &mut [Bands],
 ) {
     let min_image = ctx.geometry.min_image();
     let search = Context {
@@ -40,18 +44,29 @@ pub(super) fn list_candidates(
         margin,
         min_image,
     };
-    ctx.exec.for_each_mut(x.len(), candidates, |b, pairs| {
-        pairs.clear();
-        if min_image.is_periodic() {
-            search.block_pairs::<true>(&blocks[b], pairs);
-        } else {
-            search.block_pairs::<false>(&blocks[b], pairs);
+    ctx.exec.for_each_mut(x.len(), candidates, |b, bands| {
+        for pairs in bands.iter_mut() {
+            pairs.clear();
         }
-        // A list kept from a larger block of an earlier grid gives back its excess.
-        if pairs.capacity() > 2 * pairs.len() + 1024 {
-            pairs.shrink_to(pairs.len() + pairs.len() / 4);
+        if min_image.is_periodic() {
+            search.block_pairs::<true>(&blocks[b], bands);
+        } else {
+            search.block_pairs::<false>(&blocks[b], bands);
+        }
+        for pairs in bands.iter_mut() {
+            // A list kept from a larger block of an earlier grid gives back its excess.
+            if pairs.capacity() > 2 * pairs.len() + 1024 {
+                pairs.shrink_to(pairs.len() + pairs.len() / 4);
+            }
         }
     });
+}
+
+/// The squared distances that sort a run's pairs into bands: the end of the near band, and
+/// the cut (the end of the far one).
+struct Cuts {
+    near2: f64,
+    cut2: f64,
 }
 
 /// Whether the cell's forward half-stencil is the full one with no edge in between:
@@ -81,55 +96,79 @@ impl Context<'_> {
         self.cell_start[cell] as usize..self.cell_start[cell + 1] as usize
     }
 
-    /// Lists `a` with each disc of `others` within distance `sqrt(cut2)`: at least the
-    /// collision distance plus the margin of every pair tested, so each list is a superset
-    /// and one constant serves a whole run.
+    /// The squared distances that bound the bands of pairs whose collision distance is at
+    /// most `reach` (the run's largest): the near band ends half the margin beyond it, the
+    /// far one at the whole margin.
+    #[inline]
+    fn cuts(&self, reach: f64) -> Cuts {
+        let near = reach + 0.5 * self.margin;
+        let cut = reach + self.margin;
+        Cuts {
+            near2: near * near,
+            cut2: cut * cut,
+        }
+    }
+
+    /// Lists `a` with each disc of `others` within the cut of `cuts` (at least the collision
+    /// distance plus the margin of every pair tested, so each list is a superset and one
+    /// constant serves a whole run), each pair in its band.
     #[inline(always)]
     fn test<const PERIODIC: bool>(
         &self,
         a: usize,
         others: Range<usize>,
-        cut2: f64,
-        out: &mut Vec<Pair>,
+        cuts: &Cuts,
+        out: &mut Bands,
     ) {
         let (xa, ya) = (self.x[a], self.y[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
         let (xs, ys) = (&self.x[others.clone()], &self.y[others]);
         // About one test in four is a candidate, so a branch on it would mispredict often:
-        // every pair is written to the spare capacity and the length only advances on a hit.
-        if out.capacity() - out.len() < xs.len() {
-            // Grow by a quarter, not double: the lists are a large part of the memory.
-            out.reserve_exact(xs.len().max(out.capacity() / 4));
+        // every pair is written to its band's spare capacity and that band's length only
+        // advances on a hit.
+        let [near, far] = out;
+        for pairs in [&mut *near, &mut *far] {
+            if pairs.capacity() - pairs.len() < xs.len() {
+                // Grow by a quarter, not double: the lists are a large part of the memory.
+                pairs.reserve_exact(xs.len().max(pairs.capacity() / 4));
+            }
         }
-        let mut len = out.len();
-        let spare = out.spare_capacity_mut();
-        let mut written = 0;
+        let (mut near_len, mut far_len) = (near.len(), far.len());
+        let (near_spare, far_spare) = (near.as_mut_ptr(), far.as_mut_ptr());
         for (k, (&xb, &yb)) in xs.iter().zip(ys).enumerate() {
             let [dx, dy] = if PERIODIC {
                 self.min_image.diff(xa, ya, xb, yb)
             } else {
                 [xa - xb, ya - yb]
             };
-            let hit = dx * dx + dy * dy <= cut2;
-            // `written <= k < xs.len()`, within the reserved spare capacity.
-            spare[written].write([a as u32, (start + k) as u32]);
-            written += hit as usize;
+            let d2 = dx * dx + dy * dy;
+            let pair = [a as u32, (start + k) as u32];
+            // SAFETY: each band has room for `xs.len()` more pairs (reserved above) and
+            // advances by at most one per iteration.
+            unsafe {
+                near_spare.add(near_len).write(pair);
+                far_spare.add(far_len).write(pair);
+            }
+            let is_far = d2 > cuts.near2;
+            near_len += (d2 <= cuts.near2) as usize;
+            far_len += (is_far & (d2 <= cuts.cut2)) as usize;
         }
-        len += written;
-        // SAFETY: the first `written` spare slots were initialised above.
-        unsafe { out.set_len(len) };
+        // SAFETY: the pairs up to these lengths were written above (or before).
+        unsafe {
+            near.set_len(near_len);
+            far.set_len(far_len);
+        }
     }
 
     /// All candidates listed by the cells of `block`.
-    fn block_pairs<const PERIODIC: bool>(&self, block: &Block, out: &mut Vec<Pair>) {
+    fn block_pairs<const PERIODIC: bool>(&self, block: &Block, out: &mut Bands) {
         let g = &self.levels[block.level];
         // Pairs across levels are listed by the finer disc: a coarser grid's cells are at
         // least the reach, so it scans at most 3×3 of them.
         let coarser = &self.levels[block.level + 1..];
         // Discs of one level are at most its largest radius.
-        let own_cut = self.law.interaction_diameter(g.max_radius) + self.margin;
-        let own_cut2 = own_cut * own_cut;
+        let own_cuts = self.cuts(self.law.interaction_diameter(g.max_radius));
         for cy in block.y.clone() {
             for cx in block.x.clone() {
                 let own_cell = g.cell_index(cx, cy);
@@ -145,8 +184,8 @@ impl Context<'_> {
                     let upper =
                         self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
                     for a in own.clone() {
-                        self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
-                        self.test::<PERIODIC>(a, upper.clone(), own_cut2, out);
+                        self.test::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
+                        self.test::<PERIODIC>(a, upper.clone(), &own_cuts, out);
                         for level in coarser {
                             self.scan_level::<PERIODIC>(a, level, out);
                         }
@@ -179,9 +218,9 @@ impl Context<'_> {
                 let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test::<PERIODIC>(a, a + 1..first_end, own_cut2, out);
+                    self.test::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
                     for range in &ranges[1..count] {
-                        self.test::<PERIODIC>(a, range.clone(), own_cut2, out);
+                        self.test::<PERIODIC>(a, range.clone(), &own_cuts, out);
                     }
                     // Coarser levels: every cell under this disc's reach.
                     for level in coarser {
@@ -193,7 +232,8 @@ impl Context<'_> {
     }
 
     /// Lists disc `a` with the discs of another level's grid within its reach.
-    fn scan_level<const PERIODIC: bool>(&self, a: usize, grid: &LevelGrid, out: &mut Vec<Pair>) {
+    fn scan_level<const PERIODIC: bool>(&self, a: usize, grid: &LevelGrid, out: &mut Bands) {
+        let cuts = self.cuts(self.law.collision_distance(self.radius[a], grid.max_radius));
         let reach = self.law.collision_distance(self.radius[a], grid.max_radius) + self.margin;
         let pos = [self.x[a], self.y[a]];
         // The cells under the reach along one axis: a first cell and a count (wrapping in a
@@ -229,7 +269,7 @@ impl Context<'_> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[grid.cell_index(c0, cy)] as usize
                     ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
-                self.test::<PERIODIC>(a, range, reach * reach, out);
+                self.test::<PERIODIC>(a, range, &cuts, out);
             }
         }
     }

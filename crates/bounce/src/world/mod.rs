@@ -394,7 +394,19 @@ impl World {
             // velocities and places the earlier ones left (the candidates still hold every
             // pair that can collide; the next integration measures the pushes).
             for pass in 0..self.config.solver_iterations {
-                let found = self.contacts.find(bp, &self.particles, &ctx);
+                // The first pass after integration knows how far discs are from their
+                // references; later ones (after pushes) and segment crossings test all.
+                let bands = if pass == 0 && !follow {
+                    // A rebuild took the current positions as the reference.
+                    bp.bands_within(if rebuilt {
+                        0.0
+                    } else {
+                        moved.max_displacement2
+                    })
+                } else {
+                    broadphase::BANDS
+                };
+                let found = self.contacts.find(bp, bands, &self.particles, &ctx);
                 if pass == 0 {
                     let found = match ctx.tally {
                         None => found,
@@ -829,7 +841,7 @@ impl World {
         let margin = 0.25 * ctx.law.interaction_diameter(r_min);
         broadphase.list_in_place([&p.x, &p.y, &p.radius], &ctx, margin);
         let mut contacts = Contacts::default();
-        contacts.find(&broadphase, p, &ctx);
+        contacts.find(&broadphase, broadphase::BANDS, p, &ctx);
         contacts.pair_ids(p)
     }
 

@@ -204,3 +204,95 @@ fn a_sink_can_empty_the_world_and_it_keeps_stepping() {
     let back: World = serde_json::from_str(&json).unwrap();
     assert_eq!(back.state_hash(), world.state_hash());
 }
+
+#[test]
+fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references() {
+    // Between rebuilds, detection skips the far band while the displacements allow it. At
+    // every step, the bands it would test (for the true largest displacement) find exactly
+    // the pairs the brute-force oracle finds; both cases occur.
+    for boundary in [
+        Boundary::walls([0.0, 0.0], [60.0, 60.0]),
+        Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
+    ] {
+        // A dense fast gas: contacts are many, so some come from the far band.
+        let config = Config {
+            boundary: boundary.clone(),
+            ..Config::default()
+        };
+        let gas = Gas {
+            count: 2000,
+            radius: [0.3, 0.6],
+            region: Some(([2.0, 2.0], [58.0, 58.0])),
+            speeds: Speeds::Uniform(8.0),
+            drift: [0.0, 0.0],
+            seed: 5,
+        };
+        let mut world = World::new(config.clone()).unwrap();
+        world
+            .add_particles(scene::gas(&gas, &config).unwrap())
+            .unwrap();
+        world.set_threads(2).unwrap();
+        world.set_parallel_min_work(0);
+        let (mut near_only, mut both) = (0, 0);
+        for _ in 0..200 {
+            world.step(1.0 / 60.0).unwrap();
+            let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
+            let bp = &world.broadphase;
+            let p = &world.particles;
+            let (rx, ry) = bp.reference.positions(p.len()).unwrap();
+            let min_image = ctx.geometry.min_image();
+            let displacement2 = (0..p.len())
+                .map(|i| {
+                    let [dx, dy] = min_image.diff(p.x[i], p.y[i], rx[i] as f64, ry[i] as f64);
+                    dx * dx + dy * dy
+                })
+                .fold(0.0, f64::max);
+            let bands = bp.bands_within(displacement2);
+            if bands < broadphase::BANDS {
+                near_only += 1;
+            } else {
+                both += 1;
+            }
+            let mut contacts = Contacts::default();
+            contacts.find(bp, bands, p, &ctx);
+            let expected = world.colliding_pairs_brute_force();
+            assert_eq!(contacts.pair_ids(p), expected, "{boundary:?}");
+        }
+        assert!(near_only > 10 && both > 10, "{near_only} {both}");
+    }
+}
+
+#[test]
+fn a_far_pair_that_closes_in_is_found() {
+    // Two discs (radius 0.5, skin 0.75) head on at 1.5 each, listed in the first step 1.45
+    // apart: beyond the near band (1.375), so in the far one. They touch in step 10, each
+    // having moved 0.225 since, within the allowance (0.3675): no rebuild, and the far band
+    // must be tested by then.
+    let mut world = World::new(Config {
+        boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+        ..Config::default()
+    })
+    .unwrap();
+    world
+        .add_particles([
+            Particle::new([9.25, 10.0], [1.5, 0.0], 0.5),
+            Particle::new([10.75, 10.0], [-1.5, 0.0], 0.5),
+        ])
+        .unwrap();
+    world.step(1.0 / 60.0).unwrap();
+    assert_eq!(world.broadphase.candidates[0][1].len(), 1, "listed far");
+    let mut contacts_at = None;
+    for step in 2..=12 {
+        let stats = *world.step(1.0 / 60.0).unwrap();
+        assert_eq!(world.profile().rebuilds, 0);
+        if stats.pairs > 0 && contacts_at.is_none() {
+            contacts_at = Some(step);
+            // The near band alone would have missed it.
+            let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
+            let mut contacts = Contacts::default();
+            contacts.find(&world.broadphase, 1, &world.particles, &ctx);
+            assert!(contacts.list.is_empty());
+        }
+    }
+    assert_eq!(contacts_at, Some(10));
+}
