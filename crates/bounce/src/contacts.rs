@@ -353,6 +353,31 @@ impl Contacts {
         }
     }
 
+    /// Piece `piece` cut in two at the block boundary nearest its middle (the second half
+    /// empty when the piece is one block): whole blocks of one colour each, so the halves
+    /// touch disjoint discs and may be resolved side by side.
+    pub(crate) fn halves(&self, piece: usize) -> [Range<usize>; 2] {
+        let Range { start, end } = self.pieces[piece].clone();
+        let list = &self.list;
+        let same_block = |k: usize| list[k].key == list[k - 1].key;
+        let middle = start + (end - start) / 2;
+        // The nearest boundaries above and below the middle.
+        let mut up = middle.max(start + 1);
+        while up < end && same_block(up) {
+            up += 1;
+        }
+        let mut down = middle;
+        while down > start && same_block(down) {
+            down -= 1;
+        }
+        let cut = if down > start && middle - down < up - middle {
+            down
+        } else {
+            up.min(end)
+        };
+        [start..cut, cut..end]
+    }
+
     /// The contacts as sorted id pairs.
     pub(crate) fn pair_ids(&self, p: &Particles) -> Vec<(ParticleId, ParticleId)> {
         let mut out: Vec<_> = self

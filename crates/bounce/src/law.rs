@@ -11,6 +11,7 @@
 //! The model options of [`Config`] are the only departures from the seed, each off by default.
 
 use crate::config::{Config, MassModel, RestitutionModel, VelocityUpdate};
+use crate::lanes::Lanes;
 
 /// The normal used when two centres coincide (distance 0): `+x`. The seed divides by the
 /// distance there; any fixed unit vector keeps the result finite and deterministic, and `+x`
@@ -137,46 +138,74 @@ pub struct Resolution {
 /// ```
 #[inline]
 pub fn resolve_pair(diff: [f64; 2], a: &Body, b: &Body, law: &Law) -> Resolution {
+    let out = resolve_lanes(
+        diff,
+        [a.velocity, b.velocity],
+        [a.radius, b.radius],
+        [a.mass, b.mass],
+        law,
+    );
+    Resolution {
+        push: out.push,
+        v1: out.v1,
+        v2: out.v2,
+    }
+}
+
+/// [`Resolution`] in lanes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LaneResolution<L> {
+    pub push: [L; 2],
+    pub v1: [L; 2],
+    pub v2: [L; 2],
+}
+
+/// The seed's steps 1–7 ([`resolve_pair`]) for a pair per lane: written once, for one pair
+/// (`f64`) or two at once (`lanes::F64x2`), with the same operations in the same order
+/// either way, so both give the same bits (see `lanes`). Branches of the scalar form are
+/// selections here: both sides are computed and each lane keeps its own.
+#[inline(always)]
+pub(crate) fn resolve_lanes<L: Lanes>(
+    diff: [L; 2],
+    velocity: [[L; 2]; 2],
+    radius: [L; 2],
+    mass: [L; 2],
+    law: &Law,
+) -> LaneResolution<L> {
+    let (zero, one) = (L::splat(0.0), L::splat(1.0));
     // Step 2: the current distance.
     let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
     // Step 4: the collision normal (from 2 to 1) and tangent; fixed normal at distance 0.
-    let n = if distance > 0.0 {
-        [diff[0] / distance, diff[1] / distance]
-    } else {
-        COINCIDENT_NORMAL
-    };
+    let apart = distance.gt(zero);
+    let n = [
+        L::select(apart, diff[0] / distance, L::splat(COINCIDENT_NORMAL[0])),
+        L::select(apart, diff[1] / distance, L::splat(COINCIDENT_NORMAL[1])),
+    ];
     let t = [-n[1], n[0]];
 
     // Step 3: push apart half each while overlapping.
-    let collision_distance = law.collision_distance(a.radius, b.radius);
-    let push = if distance < collision_distance {
-        let overlap = collision_distance - distance;
-        [n[0] * overlap / 2.0, n[1] * overlap / 2.0]
-    } else {
-        [0.0, 0.0]
-    };
+    let collision_distance = (radius[0] + radius[1]) * L::splat(law.collision_radius_scale);
+    let overlapping = distance.lt(collision_distance);
+    let overlap = collision_distance - distance;
+    let two = one + one;
+    let push = [
+        L::select(overlapping, n[0] * overlap / two, zero),
+        L::select(overlapping, n[1] * overlap / two, zero),
+    ];
 
     // Step 5: normal and tangent components.
-    let dot = |v: [f64; 2], u: [f64; 2]| v[0] * u[0] + v[1] * u[1];
-    let (v1n, v1t) = (dot(a.velocity, n), dot(a.velocity, t));
-    let (v2n, v2t) = (dot(b.velocity, n), dot(b.velocity, t));
-
-    let approaching = v1n - v2n < 0.0;
-    if law.velocity_update == VelocityUpdate::ApproachingOnly && !approaching {
-        return Resolution {
-            push,
-            v1: a.velocity,
-            v2: b.velocity,
-        };
-    }
+    let dot = |v: [L; 2], u: [L; 2]| v[0] * u[0] + v[1] * u[1];
+    let [va, vb] = velocity;
+    let (v1n, v1t) = (dot(va, n), dot(va, t));
+    let (v2n, v2t) = (dot(vb, n), dot(vb, t));
 
     // Step 6: the 1D elastic collision with the masses, then the restitution.
-    let (m1, m2) = (a.mass, b.mass);
-    let e = law.restitution;
+    let [m1, m2] = mass;
+    let e = L::splat(law.restitution);
     let (v1n_new, v2n_new) = match law.restitution_model {
         RestitutionModel::ScaleEachNormalVelocity => (
-            (v1n * (m1 - m2) + 2.0 * m2 * v2n) / (m1 + m2) * e,
-            (v2n * (m2 - m1) + 2.0 * m1 * v1n) / (m1 + m2) * e,
+            (v1n * (m1 - m2) + two * m2 * v2n) / (m1 + m2) * e,
+            (v2n * (m2 - m1) + two * m1 * v1n) / (m1 + m2) * e,
         ),
         RestitutionModel::RelativeNormalVelocity => {
             let momentum = m1 * v1n + m2 * v2n;
@@ -188,11 +217,24 @@ pub fn resolve_pair(diff: [f64; 2], a: &Body, b: &Body, law: &Law) -> Resolution
     };
 
     // Step 7: recombine normal and tangent parts.
-    Resolution {
-        push,
-        v1: [v1n_new * n[0] + v1t * t[0], v1n_new * n[1] + v1t * t[1]],
-        v2: [v2n_new * n[0] + v2t * t[0], v2n_new * n[1] + v2t * t[1]],
+    let v1 = [v1n_new * n[0] + v1t * t[0], v1n_new * n[1] + v1t * t[1]];
+    let v2 = [v2n_new * n[0] + v2t * t[0], v2n_new * n[1] + v2t * t[1]];
+    if law.velocity_update == VelocityUpdate::ApproachingOnly {
+        // Separating pairs keep their velocities.
+        let approaching = (v1n - v2n).lt(zero);
+        let keep = |new: [L; 2], old: [L; 2]| {
+            [
+                L::select(approaching, new[0], old[0]),
+                L::select(approaching, new[1], old[1]),
+            ]
+        };
+        return LaneResolution {
+            push,
+            v1: keep(v1, va),
+            v2: keep(v2, vb),
+        };
     }
+    LaneResolution { push, v1, v2 }
 }
 
 #[cfg(test)]
@@ -211,5 +253,72 @@ mod tests {
         // The rule is `<=`: touching at exactly the collision distance collides.
         assert!(law.is_colliding([0.0, 6.0], 1.0, 3.0));
         assert!(!law.is_colliding([0.0, 6.000001], 1.0, 3.0));
+    }
+
+    #[test]
+    fn two_pairs_in_lanes_give_each_pair_its_scalar_bits() {
+        use crate::lanes::F64x2;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let bodies = |next: &mut dyn FnMut() -> f64| -> ([f64; 2], Body, Body) {
+            let r = [0.1 + next(), 0.1 + 2.0 * next()];
+            // Overlapping, touching, apart, coincident.
+            let d = match (next() * 4.0) as u32 {
+                0 => (r[0] + r[1]) * next(),
+                1 => r[0] + r[1],
+                2 => (r[0] + r[1]) * (1.0 + next()),
+                _ => 0.0,
+            };
+            let angle = 6.283 * next();
+            let diff = [d * libm::cos(angle), d * libm::sin(angle)];
+            let body = |r: f64, next: &mut dyn FnMut() -> f64| Body {
+                velocity: [4.0 * next() - 2.0, 4.0 * next() - 2.0],
+                radius: r,
+                mass: r * (0.5 + next()),
+            };
+            (diff, body(r[0], next), body(r[1], next))
+        };
+        for restitution_model in [
+            RestitutionModel::ScaleEachNormalVelocity,
+            RestitutionModel::RelativeNormalVelocity,
+        ] {
+            for velocity_update in [VelocityUpdate::AllDetected, VelocityUpdate::ApproachingOnly] {
+                let law = Law {
+                    collision_radius_scale: 1.1,
+                    restitution: 0.8,
+                    restitution_model,
+                    velocity_update,
+                    mass_model: MassModel::Radius,
+                };
+                for _ in 0..2000 {
+                    let (one, two) = (bodies(&mut next), bodies(&mut next));
+                    let lanes =
+                        |f: &dyn Fn(&([f64; 2], Body, Body)) -> f64| F64x2::new(f(&one), f(&two));
+                    let out = resolve_lanes(
+                        [lanes(&|c| c.0[0]), lanes(&|c| c.0[1])],
+                        [
+                            [lanes(&|c| c.1.velocity[0]), lanes(&|c| c.1.velocity[1])],
+                            [lanes(&|c| c.2.velocity[0]), lanes(&|c| c.2.velocity[1])],
+                        ],
+                        [lanes(&|c| c.1.radius), lanes(&|c| c.2.radius)],
+                        [lanes(&|c| c.1.mass), lanes(&|c| c.2.mass)],
+                        &law,
+                    );
+                    for (lane, (diff, a, b)) in [one, two].iter().enumerate() {
+                        let scalar = resolve_pair(*diff, a, b, &law);
+                        let lane_of = |v: [F64x2; 2]| v.map(|v| v.lanes()[lane].to_bits());
+                        let bits = |v: [f64; 2]| v.map(f64::to_bits);
+                        assert_eq!(lane_of(out.push), bits(scalar.push), "{diff:?} {a:?} {b:?}");
+                        assert_eq!(lane_of(out.v1), bits(scalar.v1), "{diff:?} {a:?} {b:?}");
+                        assert_eq!(lane_of(out.v2), bits(scalar.v2), "{diff:?} {a:?} {b:?}");
+                    }
+                }
+            }
+        }
     }
 }

@@ -45,6 +45,7 @@ pub use contacts::{order_block_start, order_cell_width};
 mod context;
 mod geometry;
 mod integrate;
+mod lanes;
 pub mod law;
 mod obstacles;
 mod parallel;

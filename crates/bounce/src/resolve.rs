@@ -12,11 +12,15 @@
 //! sinks at a steady speed that the pushes undo (measured: mean vy ≈ -0.6 in the settled
 //! shipped pile under `relative_normal_velocity`, a kinetic energy near 150).
 
-use crate::contacts::Contacts;
+use crate::config::MassModel;
+use crate::contacts::{Contact, Contacts};
 use crate::context::StepContext;
+use crate::geometry::MinImage;
 use crate::geometry::{Geometry, bounce};
-use crate::law::Body;
+use crate::lanes::{F64x2, Lanes};
+use crate::law::{Law, resolve_lanes};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
+use crate::part::Tally;
 use crate::particles::Particles;
 use crate::sum::{ExactSum, WallSums};
 
@@ -30,6 +34,45 @@ const PREFETCH_AHEAD: usize = 8;
 /// changes: exact when the model conserves momentum), summed exactly (so in no particular
 /// order), over the contacts the step's tally counts (by the lower-id disc's place).
 pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> ExactSum {
+    // One loop per common case, so the boundary and the mass model are decided once, not
+    // per contact.
+    let walls = match ctx.geometry {
+        Geometry::Walls { min, max, .. } => Some((min, max)),
+        _ => None,
+    };
+    // Dense contacts (a pile) share their discs' cache lines; scattered ones (a gas) wait
+    // for memory unless their discs are asked for ahead.
+    let scattered = contacts.list.len() < p.len() / 4;
+    let radius_is_mass = ctx.law.mass_model == MassModel::Radius;
+    match (scattered, radius_is_mass) {
+        (true, true) => resolve_pieces::<true, true>(contacts, p, ctx, walls),
+        (true, false) => resolve_pieces::<true, false>(contacts, p, ctx, walls),
+        (false, true) => resolve_pieces::<false, true>(contacts, p, ctx, walls),
+        (false, false) => resolve_pieces::<false, false>(contacts, p, ctx, walls),
+    }
+}
+
+/// The walls' hold ([`Geometry::hold`]) of one coordinate per lane, `lo` and `hi` the walls.
+#[inline(always)]
+fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
+    let (lo, hi) = (L::splat(lo), L::splat(hi));
+    let v = L::select(v.gt(hi - r), hi - r, v);
+    L::select(v.lt(lo + r), lo + r, v)
+}
+
+/// [`resolve_all`] with whether to prefetch (`PREFETCH`) and whether the mass is the
+/// radius (`RADIUS_MASS`, the seed's model) fixed, and the walls' corners if any.
+///
+/// Each piece is cut at a block boundary into two halves whose blocks are of one colour, so
+/// they touch disjoint discs (see `contacts`): their contacts go through the law two at a
+/// time, one per lane ([`F64x2`]), with the bits of one at a time. What one half has left
+/// over goes alone.
+fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
+    contacts: &Contacts,
+    p: &mut Particles,
+    ctx: &StepContext,
+    walls: Option<([f64; 2], [f64; 2])>,
+) -> ExactSum {
     let tally = ctx.tally;
     let law = &ctx.law;
     let min_image = ctx.geometry.min_image();
@@ -39,61 +82,158 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
     let y = SharedSlice::new(&mut p.y);
     let vx = SharedSlice::new(&mut p.vx);
     let vy = SharedSlice::new(&mut p.vy);
-    let geometry = ctx.geometry;
+    let mass_of = |i: usize| {
+        if RADIUS_MASS {
+            radius[i]
+        } else {
+            law.mass(radius[i], mass[i])
+        }
+    };
+    let prefetch_discs = |contact: &Contact| {
+        for i in [contact.a as usize, contact.b as usize] {
+            prefetch(x.address(i));
+            prefetch(y.address(i));
+            prefetch(vx.address(i));
+            prefetch(vy.address(i));
+            prefetch(radius.as_ptr().wrapping_add(i));
+        }
+    };
+    // The contacts `pair(lane)` (storage indices, lower id first), one per lane; adds the
+    // virial of the lanes `counted` says to `virial`.
+    //
+    // SAFETY (for callers): the lanes' contacts touch disjoint discs, and no other thread
+    // touches them meanwhile: the contacts of one piece touch discs in its blocks' cells and
+    // their one-cell ring; pieces of one colour hold whole blocks of that colour, which are
+    // two cells apart (see `contacts`). Indices come from the current storage, so they are
+    // in bounds.
+    #[inline(always)]
+    unsafe fn resolve<L: Lanes>(
+        pair: impl Fn(usize) -> (usize, usize),
+        counted: impl Fn(usize) -> bool,
+        discs: &Discs<'_, impl Fn(usize) -> f64>,
+        virial: &mut ExactSum,
+    ) {
+        let Discs {
+            x,
+            y,
+            vx,
+            vy,
+            radius,
+            mass_of,
+            law,
+            min_image,
+            walls,
+            tally,
+        } = discs;
+        let (a, b) = (|k| pair(k).0, |k| pair(k).1);
+        // SAFETY: as the caller promises.
+        unsafe {
+            let (xa, ya) = (L::gather(|k| x.get(a(k))), L::gather(|k| y.get(a(k))));
+            let (xb, yb) = (L::gather(|k| x.get(b(k))), L::gather(|k| y.get(b(k))));
+            let diff = if min_image.is_periodic() {
+                // The minimum image lane by lane (it branches on each difference).
+                let (ax, ay, bx, by) = (
+                    lane_values(xa),
+                    lane_values(ya),
+                    lane_values(xb),
+                    lane_values(yb),
+                );
+                let image = |k: usize| min_image.diff(ax[k], ay[k], bx[k], by[k]);
+                [L::gather(|k| image(k)[0]), L::gather(|k| image(k)[1])]
+            } else {
+                [xa - xb, ya - yb]
+            };
+            let va = [L::gather(|k| vx.get(a(k))), L::gather(|k| vy.get(a(k)))];
+            let vb = [L::gather(|k| vx.get(b(k))), L::gather(|k| vy.get(b(k)))];
+            let (ra, rb) = (L::gather(|k| radius[a(k)]), L::gather(|k| radius[b(k)]));
+            let (ma, mb) = (L::gather(|k| mass_of(a(k))), L::gather(|k| mass_of(b(k))));
+            let out = resolve_lanes(diff, [va, vb], [ra, rb], [ma, mb], law);
+            // The pair's impulse: half the difference of the momentum changes.
+            let half = L::splat(0.5);
+            let impulse =
+                [0, 1].map(|k| half * (ma * (out.v1[k] - va[k]) - mb * (out.v2[k] - vb[k])));
+            let term = diff[0] * impulse[0] + diff[1] * impulse[1];
+            let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
+            term.each(|k, term| {
+                if counted(k) && tally.is_none_or(|t| t.counts(xa_at[k], ya_at[k])) {
+                    virial.add(term);
+                }
+            });
+            let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
+            let (mut xb, mut yb) = (xb - out.push[0], yb - out.push[1]);
+            if let Some((min, max)) = *walls {
+                (xa, ya) = (hold(xa, ra, min[0], max[0]), hold(ya, ra, min[1], max[1]));
+                (xb, yb) = (hold(xb, rb, min[0], max[0]), hold(yb, rb, min[1], max[1]));
+            }
+            xa.each(|k, v| x.set(a(k), v));
+            ya.each(|k, v| y.set(a(k), v));
+            xb.each(|k, v| x.set(b(k), v));
+            yb.each(|k, v| y.set(b(k), v));
+            out.v1[0].each(|k, v| vx.set(a(k), v));
+            out.v1[1].each(|k, v| vy.set(a(k), v));
+            out.v2[0].each(|k, v| vx.set(b(k), v));
+            out.v2[1].each(|k, v| vy.set(b(k), v));
+        }
+    }
+    let discs = Discs {
+        x: &x,
+        y: &y,
+        vx: &vx,
+        vy: &vy,
+        radius,
+        mass_of,
+        law,
+        min_image,
+        walls,
+        tally,
+    };
     let mut virial = ExactSum::new();
     for phase in &contacts.phases {
         // A contact costs a few cache misses: count it as a few discs' work.
         let pieces = &contacts.pieces[phase.clone()];
         let work = 4 * (pieces.last().map_or(0, |p| p.end) - pieces.first().map_or(0, |p| p.start));
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
-            let list = &contacts.list[contacts.pieces[piece].clone()];
+            let list = &contacts.list[..];
+            let [first, second] = contacts.halves(piece);
             let mut virial = ExactSum::new();
-            for (k, contact) in list.iter().enumerate() {
-                // Contacts touch scattered discs: start loading a later contact's discs now.
-                if let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
-                    for i in [ahead.a as usize, ahead.b as usize] {
-                        prefetch(x.address(i));
-                        prefetch(y.address(i));
-                        prefetch(vx.address(i));
-                        prefetch(vy.address(i));
-                        prefetch(radius.as_ptr().wrapping_add(i));
+            let paired = first.len().min(second.len());
+            let indices = |c: &Contact| (c.a as usize, c.b as usize);
+            for k in 0..paired {
+                let (one, two) = (&list[first.start + k], &list[second.start + k]);
+                if PREFETCH {
+                    // Contacts touch scattered discs: start loading later ones' discs now.
+                    for half in [&first, &second] {
+                        if let Some(ahead) = list.get(half.start + k + PREFETCH_AHEAD / 2) {
+                            prefetch_discs(ahead);
+                        }
                     }
                 }
-                let (a, b) = (contact.a as usize, contact.b as usize);
-                // SAFETY: the contacts of one piece touch discs in its blocks' cells and their
-                // one-cell ring; pieces of one colour hold whole blocks of that colour, which
-                // are two cells apart (see `contacts`), so no other thread touches `a` or `b`
-                // now. Indices come from the current storage, so they are in bounds.
-                unsafe {
-                    let diff = min_image.diff(x.get(a), y.get(a), x.get(b), y.get(b));
-                    let body = |i: usize| Body {
-                        velocity: [vx.get(i), vy.get(i)],
-                        radius: radius[i],
-                        mass: law.mass(radius[i], mass[i]),
-                    };
-                    let (body_a, body_b) = (body(a), body(b));
-                    let out = law.resolve(diff, &body_a, &body_b);
-                    // The pair's impulse: half the difference of the momentum changes.
-                    let impulse = [0, 1].map(|k| {
-                        0.5 * (body_a.mass * (out.v1[k] - body_a.velocity[k])
-                            - body_b.mass * (out.v2[k] - body_b.velocity[k]))
-                    });
-                    if tally.is_none_or(|t| t.counts(x.get(a), y.get(a))) {
-                        virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+                let pair = |lane: usize| {
+                    if lane == 0 {
+                        indices(one)
+                    } else {
+                        indices(two)
                     }
-                    let (mut xa, mut ya) = (x.get(a) + out.push[0], y.get(a) + out.push[1]);
-                    let (mut xb, mut yb) = (x.get(b) - out.push[0], y.get(b) - out.push[1]);
-                    geometry.hold(&mut xa, &mut ya, body_a.radius);
-                    geometry.hold(&mut xb, &mut yb, body_b.radius);
-                    x.set(a, xa);
-                    y.set(a, ya);
-                    x.set(b, xb);
-                    y.set(b, yb);
-                    vx.set(a, out.v1[0]);
-                    vy.set(a, out.v1[1]);
-                    vx.set(b, out.v2[0]);
-                    vy.set(b, out.v2[1]);
+                };
+                // SAFETY: two contacts of different halves: disjoint discs (see above).
+                unsafe { resolve::<F64x2>(pair, |_| true, &discs, &mut virial) };
+            }
+            let rest = if first.len() > paired {
+                first.start + paired..first.end
+            } else {
+                second.start + paired..second.end
+            };
+            for k in rest.clone() {
+                if PREFETCH
+                    && let Some(ahead) = list
+                        .get(k + PREFETCH_AHEAD)
+                        .filter(|_| k + PREFETCH_AHEAD < rest.end)
+                {
+                    prefetch_discs(ahead);
                 }
+                let contact = &list[k];
+                // SAFETY: one contact at a time.
+                unsafe { resolve::<f64>(|_| indices(contact), |_| true, &discs, &mut virial) };
             }
             virial
         });
@@ -102,6 +242,28 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
         }
     }
     virial
+}
+
+/// What resolving a contact reads besides the contact.
+struct Discs<'a, M> {
+    x: &'a SharedSlice<'a, f64>,
+    y: &'a SharedSlice<'a, f64>,
+    vx: &'a SharedSlice<'a, f64>,
+    vy: &'a SharedSlice<'a, f64>,
+    radius: &'a [f64],
+    mass_of: M,
+    law: &'a Law,
+    min_image: MinImage,
+    walls: Option<([f64; 2], [f64; 2])>,
+    tally: Option<Tally>,
+}
+
+/// The lanes of `v` as an array of up to two.
+#[inline(always)]
+fn lane_values<L: Lanes>(v: L) -> [f64; 2] {
+    let mut out = [0.0; 2];
+    v.each(|k, v| out[k] = v);
+    out
 }
 
 /// Walls as contacts of a solver pass: every disc touching a wall (its centre at most its

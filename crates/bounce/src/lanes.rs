@@ -1,0 +1,329 @@
+//! Lanes: the arithmetic the collision law is written in, for one pair at a time (`f64`) or
+//! two at once ([`F64x2`]).
+//!
+//! A pair's resolution is one long chain of dependent operations (a square root, then
+//! divisions by its result, then by the sum of the masses), longer than the processor can
+//! look ahead, so resolving pairs one after another waits on that chain and nothing else.
+//! Two independent pairs in the two lanes of one set of instructions share the wait. Every
+//! lane does exactly the scalar operations in the scalar order (`+ - * /` and `sqrt` are
+//! correctly rounded, and comparisons and selections move bits unchanged), so a pair gives
+//! the same bits in either form: the law is written once, generic over [`Lanes`].
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Numbers the collision law computes with: `f64`, or several `f64` lanes at once.
+pub trait Lanes:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Per-lane truth values.
+    type Mask: Copy;
+    /// Every lane `v`.
+    fn splat(v: f64) -> Self;
+    /// The correctly rounded square root of each lane.
+    fn sqrt(self) -> Self;
+    /// `self > other` per lane (false where either is NaN).
+    fn gt(self, other: Self) -> Self::Mask;
+    /// `self < other` per lane (false where either is NaN).
+    fn lt(self, other: Self) -> Self::Mask;
+    /// `a` where `mask` holds, else `b`, per lane (bits unchanged).
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// Lane `k` set to `f(k)`.
+    fn gather(f: impl FnMut(usize) -> f64) -> Self;
+    /// `f(k, lane k)` for each lane, in order.
+    fn each(self, f: impl FnMut(usize, f64));
+}
+
+impl Lanes for f64 {
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> bool {
+        self > other
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> bool {
+        self < other
+    }
+    #[inline(always)]
+    fn select(mask: bool, a: Self, b: Self) -> Self {
+        if mask { a } else { b }
+    }
+    #[inline(always)]
+    fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn each(self, mut f: impl FnMut(usize, f64)) {
+        f(0, self)
+    }
+}
+
+pub use imp::F64x2;
+
+#[cfg(target_arch = "x86_64")]
+mod imp {
+    //! SSE2, which every x86-64 processor has.
+    use super::Lanes;
+    use std::arch::x86_64::*;
+    use std::ops::{Add, Div, Mul, Neg, Sub};
+
+    /// Two `f64` lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct F64x2(__m128d);
+
+    /// Two lane masks (all bits set where true).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Mask2(__m128d);
+
+    impl F64x2 {
+        /// Lanes `[a, b]`.
+        #[inline(always)]
+        pub fn new(a: f64, b: f64) -> Self {
+            // SAFETY: SSE2 is part of x86-64.
+            F64x2(unsafe { _mm_set_pd(b, a) })
+        }
+
+        /// The two lanes.
+        #[inline(always)]
+        pub fn lanes(self) -> [f64; 2] {
+            let mut out = [0.0; 2];
+            // SAFETY: SSE2; `out` holds two f64.
+            unsafe { _mm_storeu_pd(out.as_mut_ptr(), self.0) };
+            out
+        }
+    }
+
+    impl Mask2 {
+        /// Both lanes' truth values.
+        #[cfg(test)]
+        #[inline(always)]
+        pub fn lanes(self) -> [bool; 2] {
+            // SAFETY: SSE2.
+            let bits = unsafe { _mm_movemask_pd(self.0) };
+            [bits & 1 != 0, bits & 2 != 0]
+        }
+    }
+
+    macro_rules! op {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for F64x2 {
+                type Output = F64x2;
+                #[inline(always)]
+                fn $method(self, other: F64x2) -> F64x2 {
+                    // SAFETY: SSE2.
+                    F64x2(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    op!(Add, add, _mm_add_pd);
+    op!(Sub, sub, _mm_sub_pd);
+    op!(Mul, mul, _mm_mul_pd);
+    op!(Div, div, _mm_div_pd);
+
+    impl Neg for F64x2 {
+        type Output = F64x2;
+        #[inline(always)]
+        fn neg(self) -> F64x2 {
+            // Flips the sign bits, as scalar negation does.
+            // SAFETY: SSE2.
+            F64x2(unsafe { _mm_xor_pd(self.0, _mm_set1_pd(-0.0)) })
+        }
+    }
+
+    impl Lanes for F64x2 {
+        type Mask = Mask2;
+        #[inline(always)]
+        fn splat(v: f64) -> Self {
+            // SAFETY: SSE2.
+            F64x2(unsafe { _mm_set1_pd(v) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: SSE2.
+            F64x2(unsafe { _mm_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Mask2 {
+            // SAFETY: SSE2 (ordered, non-signalling: false with NaN).
+            Mask2(unsafe { _mm_cmpgt_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Mask2 {
+            // SAFETY: SSE2 (ordered: false with NaN).
+            Mask2(unsafe { _mm_cmplt_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn select(mask: Mask2, a: Self, b: Self) -> Self {
+            // SAFETY: SSE2.
+            F64x2(unsafe { _mm_or_pd(_mm_and_pd(mask.0, a.0), _mm_andnot_pd(mask.0, b.0)) })
+        }
+        #[inline(always)]
+        fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
+            let a = f(0);
+            F64x2::new(a, f(1))
+        }
+        #[inline(always)]
+        fn each(self, mut f: impl FnMut(usize, f64)) {
+            let [a, b] = self.lanes();
+            f(0, a);
+            f(1, b);
+        }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+mod imp {
+    //! Plain arrays elsewhere (the compiler may still pair the operations).
+    use super::Lanes;
+    use std::ops::{Add, Div, Mul, Neg, Sub};
+
+    /// Two `f64` lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct F64x2([f64; 2]);
+
+    /// Two lane truth values.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Mask2([bool; 2]);
+
+    impl F64x2 {
+        /// Lanes `[a, b]`.
+        #[inline(always)]
+        pub fn new(a: f64, b: f64) -> Self {
+            F64x2([a, b])
+        }
+
+        /// The two lanes.
+        #[inline(always)]
+        pub fn lanes(self) -> [f64; 2] {
+            self.0
+        }
+    }
+
+    impl Mask2 {
+        /// Both lanes' truth values.
+        #[cfg(test)]
+        #[inline(always)]
+        pub fn lanes(self) -> [bool; 2] {
+            self.0
+        }
+    }
+
+    macro_rules! op {
+        ($trait:ident, $method:ident, $op:tt) => {
+            impl $trait for F64x2 {
+                type Output = F64x2;
+                #[inline(always)]
+                fn $method(self, other: F64x2) -> F64x2 {
+                    F64x2([self.0[0] $op other.0[0], self.0[1] $op other.0[1]])
+                }
+            }
+        };
+    }
+    op!(Add, add, +);
+    op!(Sub, sub, -);
+    op!(Mul, mul, *);
+    op!(Div, div, /);
+
+    impl Neg for F64x2 {
+        type Output = F64x2;
+        #[inline(always)]
+        fn neg(self) -> F64x2 {
+            F64x2([-self.0[0], -self.0[1]])
+        }
+    }
+
+    impl Lanes for F64x2 {
+        type Mask = Mask2;
+        #[inline(always)]
+        fn splat(v: f64) -> Self {
+            F64x2([v, v])
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            F64x2([self.0[0].sqrt(), self.0[1].sqrt()])
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Mask2 {
+            Mask2([self.0[0] > other.0[0], self.0[1] > other.0[1]])
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Mask2 {
+            Mask2([self.0[0] < other.0[0], self.0[1] < other.0[1]])
+        }
+        #[inline(always)]
+        fn select(mask: Mask2, a: Self, b: Self) -> Self {
+            F64x2([
+                if mask.0[0] { a.0[0] } else { b.0[0] },
+                if mask.0[1] { a.0[1] } else { b.0[1] },
+            ])
+        }
+        #[inline(always)]
+        fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
+            let a = f(0);
+            F64x2::new(a, f(1))
+        }
+        #[inline(always)]
+        fn each(self, mut f: impl FnMut(usize, f64)) {
+            let [a, b] = self.lanes();
+            f(0, a);
+            f(1, b);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_give_the_scalar_bits() {
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            1e-310,
+            3.0e300,
+            f64::INFINITY,
+            f64::NAN,
+            0.1,
+            7.0 / 3.0,
+        ];
+        for &a in &values {
+            for &b in &values {
+                let (x, y) = (F64x2::new(a, b), F64x2::new(b, a));
+                let bits = |v: F64x2| v.lanes().map(f64::to_bits);
+                let scalar = |f: fn(f64, f64) -> f64| [f(a, b).to_bits(), f(b, a).to_bits()];
+                assert_eq!(bits(x + y), scalar(|p, q| p + q));
+                assert_eq!(bits(x - y), scalar(|p, q| p - q));
+                assert_eq!(bits(x * y), scalar(|p, q| p * q));
+                assert_eq!(bits(x / y), scalar(|p, q| p / q));
+                assert_eq!(bits(-x), [(-a).to_bits(), (-b).to_bits()]);
+                assert_eq!(bits(x.sqrt()), [a.sqrt().to_bits(), b.sqrt().to_bits()]);
+                assert_eq!(x.gt(y).lanes(), [a > b, b > a]);
+                assert_eq!(x.lt(y).lanes(), [a < b, b < a]);
+                let chosen = F64x2::select(x.lt(y), x, y);
+                assert_eq!(
+                    bits(chosen),
+                    [
+                        (if a < b { a } else { b }).to_bits(),
+                        (if b < a { b } else { a }).to_bits()
+                    ]
+                );
+            }
+        }
+    }
+}
