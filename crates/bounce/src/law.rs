@@ -265,7 +265,8 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
-        let bodies = |next: &mut dyn FnMut() -> f64| -> ([f64; 2], Body, Body) {
+        type Case = ([f64; 2], Body, Body);
+        let bodies = |next: &mut dyn FnMut() -> f64| -> Case {
             let r = [0.1 + next(), 0.1 + 2.0 * next()];
             // Overlapping, touching, apart, coincident.
             let d = match (next() * 4.0) as u32 {
@@ -274,7 +275,7 @@ mod tests {
                 2 => (r[0] + r[1]) * (1.0 + next()),
                 _ => 0.0,
             };
-            let angle = 6.283 * next();
+            let angle = std::f64::consts::TAU * next();
             let diff = [d * libm::cos(angle), d * libm::sin(angle)];
             let body = |r: f64, next: &mut dyn FnMut() -> f64| Body {
                 velocity: [4.0 * next() - 2.0, 4.0 * next() - 2.0],
@@ -297,8 +298,7 @@ mod tests {
                 };
                 for _ in 0..2000 {
                     let (one, two) = (bodies(&mut next), bodies(&mut next));
-                    let lanes =
-                        |f: &dyn Fn(&([f64; 2], Body, Body)) -> f64| F64x2::new(f(&one), f(&two));
+                    let lanes = |f: &dyn Fn(&Case) -> f64| F64x2::new(f(&one), f(&two));
                     let out = resolve_lanes(
                         [lanes(&|c| c.0[0]), lanes(&|c| c.0[1])],
                         [
