@@ -98,6 +98,8 @@ pub(crate) struct Broadphase {
     listed: bool,
     /// The number of discs at the last listing.
     count: usize,
+    /// Counts the listings: a list made for other storage indices has another number.
+    generation: u64,
     /// The largest radius at the last rebuild.
     max_radius: f64,
     /// Whether every disc had the same radius at the last rebuild.
@@ -123,6 +125,11 @@ impl Broadphase {
     /// The radius of every disc, when all are equal (as at the last listing).
     pub(crate) fn uniform_radius(&self) -> Option<f64> {
         (self.listed && self.uniform_radius).then_some(self.max_radius)
+    }
+
+    /// Which listing the candidates are from (see `contacts`' presorted candidates).
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// How many discs the candidates were listed for, if they are listed.
@@ -293,6 +300,7 @@ impl Broadphase {
 
     /// Lists the candidates of discs in the cell order of the last `bin`.
     fn list(&mut self, discs: [&[f64]; 3], ctx: &StepContext, margin: f64) {
+        self.generation += 1;
         self.band_width = margin / BANDS as f64;
         self.band_slop = 1e-9 * (ctx.law.interaction_diameter(self.max_radius) + margin);
         listing::list_candidates(
