@@ -14,10 +14,16 @@
 //!   only discs in its cells and their one-cell ring.
 //! - The canonical order is colour, block (row-major), lower id, higher id.
 //!
-//! Blocks of one colour are at least two cells apart, so their contacts touch disjoint discs:
-//! each colour's contacts are cut into pieces at block boundaries and the pieces resolve in
-//! parallel, with the bits of one thread. The 1% margin on the cell side absorbs rounding in
-//! the cell coordinates, whose magnitude is capped at 2^30 cells.
+//! Blocks of one colour are at least two cells apart, so their contacts touch disjoint discs.
+//! A disc can only be touched by the 2×2 blocks around it, one of each colour, so what
+//! decides its result is that those blocks take their turns in colour order: any order of
+//! resolution that keeps that, and the order within each block, gives the same bits. The
+//! contacts are therefore resolved in a *wave* order that sweeps the grid once instead of
+//! four times (the contacts of colours 0 and 1 in block row `2m`, then those of colours 2 and
+//! 3 in block row `2m − 1`, then `2m + 2`, ...), sorted by a key that says so ([`OrderGrid::key`]).
+//! The sweep is cut into bands of block rows resolved in parallel, each band but for its
+//! first odd row, which all go after (see `split`). The 1% margin on the cell side absorbs
+//! rounding in the cell coordinates, whose magnitude is capped at 2^30 cells.
 
 use std::ops::Range;
 
@@ -32,15 +38,15 @@ use crate::particles::{ParticleId, Particles, ordered};
 const CELL_MARGIN: f64 = 1.01;
 /// Cell coordinates of a grid without a periodic box are clamped to `±2^30`.
 const HALF_RANGE: isize = 1 << 30;
-/// A colour's contacts are cut into pieces of about this many for parallel resolution.
+/// The sweep is cut into bands of about this many contacts for parallel resolution.
 const CONTACTS_PER_PIECE: usize = 256;
-/// At most this many pieces per colour.
-const MAX_PIECES: usize = 64;
+/// At most this many bands.
+const MAX_PIECES: usize = 128;
 
 /// One colliding pair: storage indices `a` (the lower id) and `b`, and its sort key.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Contact {
-    /// Colour (2 bits), block row (31 bits), block column (31 bits).
+    /// The block's place in the wave order: see [`OrderGrid::key`].
     key: u64,
     /// Lower id (high half), higher id (low half).
     ids: u64,
@@ -62,9 +68,14 @@ pub(crate) struct Contacts {
     found: Vec<Vec<Contact>>,
     /// All contacts in canonical order.
     pub(crate) list: Vec<Contact>,
-    /// Ranges of `list` that may be resolved in parallel with each other.
-    pub(crate) pieces: Vec<Range<usize>>,
-    /// Ranges of `pieces`, one per colour that has contacts, in order.
+    /// Runs of `list` of one colour in one block row: whole blocks that touch disjoint
+    /// discs.
+    pub(crate) segments: Vec<Range<usize>>,
+    /// Work that may be resolved in parallel with the other pieces of its phase: ranges of
+    /// `segments`, resolved in order.
+    pub(crate) pieces: Vec<[Range<usize>; 2]>,
+    /// Ranges of `pieces`, resolved one after the other: the bands, then their first odd
+    /// rows.
     pub(crate) phases: Vec<Range<usize>>,
     /// Scratch of the bucket sort: contacts per order block, then block starts.
     bucket_start: Vec<u32>,
@@ -102,36 +113,55 @@ const CANDIDATES_PER_CHUNK: usize = 16384;
 /// at least this share of the candidates tested collide. A gas has about 1.5 %, a pile 35 %.
 const DENSE_SHARE: f64 = 0.125;
 
-/// The order-grid block coordinates contacts fall in: rows and columns, lowest and highest.
+/// The order-grid blocks contacts fall in: their waves and columns, lowest and highest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct BlockBounds {
-    rows: [u64; 2],
+    waves: [u64; 2],
     columns: [u64; 2],
 }
 
-/// The 31 bits of a block coordinate in a contact's key.
-const BLOCK_BITS: u64 = (1 << 31) - 1;
+/// The bits of a block column in a contact's key (columns are below 2^30).
+const COLUMN_BITS: u64 = (1 << 31) - 1;
 
-fn row_of(key: u64) -> u64 {
-    (key >> 31) & BLOCK_BITS
+/// The wave of a key: its block row rounded up to even (colours 2 and 3 of an odd row come
+/// after colours 0 and 1 of the next row).
+fn wave_of(key: u64) -> u64 {
+    key >> 33
+}
+
+/// 0 for the colours of even block rows (0, 1), 1 for those of odd ones (2, 3).
+fn row_parity_of(key: u64) -> u64 {
+    (key >> 32) & 1
 }
 
 fn column_of(key: u64) -> u64 {
-    key & BLOCK_BITS
+    key & COLUMN_BITS
+}
+
+/// The key of block `(column, row)` in the wave order: wave, row parity, column parity,
+/// column.
+fn block_key(column: u64, row: u64) -> u64 {
+    let parity = row & 1;
+    ((row + parity) << 33) | (parity << 32) | ((column & 1) << 31) | column
+}
+
+/// The segment of a key: its wave, row parity and colour.
+fn segment_of(key: u64) -> u64 {
+    key >> 31
 }
 
 impl BlockBounds {
     /// Bounds of no contact (any union replaces them).
     const EMPTY: BlockBounds = BlockBounds {
-        rows: [u64::MAX, 0],
+        waves: [u64::MAX, 0],
         columns: [u64::MAX, 0],
     };
 
     fn of(contacts: &[Contact]) -> BlockBounds {
         contacts.iter().fold(BlockBounds::EMPTY, |b, c| {
-            let (row, column) = (row_of(c.key), column_of(c.key));
+            let (wave, column) = (wave_of(c.key), column_of(c.key));
             BlockBounds {
-                rows: [b.rows[0].min(row), b.rows[1].max(row)],
+                waves: [b.waves[0].min(wave), b.waves[1].max(wave)],
                 columns: [b.columns[0].min(column), b.columns[1].max(column)],
             }
         })
@@ -139,9 +169,9 @@ impl BlockBounds {
 
     fn union(self, other: &BlockBounds) -> BlockBounds {
         BlockBounds {
-            rows: [
-                self.rows[0].min(other.rows[0]),
-                self.rows[1].max(other.rows[1]),
+            waves: [
+                self.waves[0].min(other.waves[0]),
+                self.waves[1].max(other.waves[1]),
             ],
             columns: [
                 self.columns[0].min(other.columns[0]),
@@ -442,11 +472,11 @@ impl Contacts {
         if total == 0 {
             return;
         }
-        // Within a colour, rows (and columns) share a parity: halving keeps their order.
-        let width = (bounds.columns[1] - bounds.columns[0]) / 2 + 1;
-        let height = (bounds.rows[1] - bounds.rows[0]) / 2 + 1;
-        let per_colour = width.saturating_mul(height);
-        let buckets = per_colour.saturating_mul(4);
+        // Waves are even; within a colour, columns share a parity: halving keeps the order.
+        let [column_min, wave_min] = [bounds.columns[0] / 2, bounds.waves[0]];
+        let width = bounds.columns[1] / 2 - column_min + 1;
+        let waves = (bounds.waves[1] - wave_min) / 2 + 1;
+        let buckets = waves.saturating_mul(4).saturating_mul(width);
         // Counting costs a pass over the blocks as well as the contacts: worth it where
         // there are few blocks per contact (a pile), not in a dilute gas.
         if buckets > 4 * total as u64 + 1024 {
@@ -457,11 +487,12 @@ impl Contacts {
                 .sort_unstable_by_key(&mut self.list, |c| (c.key, within(c)));
             return;
         }
-        let [row_min, column_min] = [bounds.rows[0], bounds.columns[0]];
+        // Buckets in key order: wave, row parity, column parity, column.
         let bucket = |c: &Contact| -> usize {
-            ((c.key >> 62) * per_colour
-                + (row_of(c.key) - row_min) / 2 * width
-                + (column_of(c.key) - column_min) / 2) as usize
+            let segment = (wave_of(c.key) - wave_min) / 2 * 4
+                + row_parity_of(c.key) * 2
+                + (column_of(c.key) & 1);
+            (segment * width + (column_of(c.key) / 2 - column_min)) as usize
         };
         let starts = &mut self.bucket_start;
         starts.clear();
@@ -513,34 +544,92 @@ impl Contacts {
             });
     }
 
-    /// Cuts the sorted list into colours and each colour into pieces at block boundaries.
+    /// Cuts the sorted list into segments (one colour of one block row), the sweep into
+    /// bands of whole waves, and the work into two phases: first every band but for its
+    /// first wave's odd row, all bands in parallel; then those rows, in parallel.
+    ///
+    /// Why that gives the serial bits: the contacts of block row `r` touch discs in cell
+    /// rows `2r − 1 ..= 2r + 2`. A band of waves `T..U` (`T`, `U` even) leaves out the odd
+    /// row `T − 1`, so it touches cell rows `2T − 1 ..= 2U − 2`, apart from every other band.
+    /// The rows left out, `T − 1` of each band, are two block rows apart from each other,
+    /// and each goes after both of its neighbouring even rows (`T − 2` and `T`, the first in
+    /// the band before, the other resolved in phase one) as in the serial order, and before
+    /// nothing that shares a disc with it (`T + 1`, two rows on, is in no conflict). In a
+    /// periodic box the last odd row neighbours row 0 across the edge: its wave starts a
+    /// band of its own, so it goes in phase two too.
     fn split(&mut self) {
+        self.segments.clear();
         self.pieces.clear();
         self.phases.clear();
         let list = &self.list;
+        if list.is_empty() {
+            return;
+        }
         let mut start = 0;
-        for colour in 0..4u64 {
-            let end = start + list[start..].partition_point(|c| c.key >> 62 == colour);
-            if end == start {
-                continue;
-            }
-            let first_piece = self.pieces.len();
-            let count = ((end - start) / CONTACTS_PER_PIECE).clamp(1, MAX_PIECES);
-            let mut from = start;
-            for k in 1..=count {
-                let mut to = start + (end - start) * k / count;
-                // Never split a block.
-                while to < end && to > from && list[to].key == list[to - 1].key {
-                    to += 1;
-                }
-                if to > from {
-                    self.pieces.push(from..to);
-                    from = to;
-                }
-            }
-            self.phases.push(first_piece..self.pieces.len());
+        while start < list.len() {
+            let segment = segment_of(list[start].key);
+            let end = start + list[start..].partition_point(|c| segment_of(c.key) == segment);
+            self.segments.push(start..end);
             start = end;
         }
+        let segments = &self.segments;
+        let wave = |s: usize| wave_of(list[segments[s].start].key);
+        let odd_row = |s: usize| row_parity_of(list[segments[s].start].key) == 1;
+        let last_wave = wave(segments.len() - 1);
+        // Bands: runs of whole waves, closed once they hold enough contacts; the last wave
+        // starts a band of its own when it holds only an odd row (see above).
+        let target = CONTACTS_PER_PIECE.max(list.len().div_ceil(MAX_PIECES));
+        let mut bands: Vec<Range<usize>> = Vec::new();
+        let mut band_start = 0;
+        for s in 1..segments.len() {
+            if wave(s) == wave(s - 1) {
+                continue;
+            }
+            let full = segments[s].start - segments[band_start].start >= target;
+            let lone_last = wave(s) == last_wave && odd_row(s);
+            if full || lone_last {
+                bands.push(band_start..s);
+                band_start = s;
+            }
+        }
+        bands.push(band_start..segments.len());
+        // Phase one: each band without its first wave's odd row; phase two: those rows.
+        let first_odd = |band: &Range<usize>| {
+            let first = wave(band.start);
+            let odd_start = (band.start..band.end)
+                .find(|&s| wave(s) != first || odd_row(s))
+                .unwrap_or(band.end);
+            let odd_end = (odd_start..band.end)
+                .find(|&s| wave(s) != first)
+                .unwrap_or(band.end);
+            (odd_start, odd_end)
+        };
+        for band in &bands {
+            let (odd_start, odd_end) = first_odd(band);
+            self.pieces.push([band.start..odd_start, odd_end..band.end]);
+        }
+        self.phases.push(0..self.pieces.len());
+        let second = self.pieces.len();
+        for band in &bands {
+            let (odd_start, odd_end) = first_odd(band);
+            if odd_end > odd_start {
+                self.pieces.push([odd_start..odd_end, odd_end..odd_end]);
+            }
+        }
+        self.phases.push(second..self.pieces.len());
+    }
+
+    /// How many contacts piece `piece` holds.
+    pub(crate) fn piece_contacts(&self, piece: usize) -> usize {
+        self.pieces[piece]
+            .iter()
+            .map(|segments| {
+                segments
+                    .clone()
+                    .map(|s| self.segments[s].len())
+                    .sum::<usize>()
+            })
+            .sum()
     }
 
     /// Whether the last detections went through presorted candidates.
@@ -549,11 +638,11 @@ impl Contacts {
         self.presorted.generation.is_some()
     }
 
-    /// Piece `piece` cut in two at the block boundary nearest its middle (the second half
-    /// empty when the piece is one block): whole blocks of one colour each, so the halves
-    /// touch disjoint discs and may be resolved side by side.
-    pub(crate) fn halves(&self, piece: usize) -> [Range<usize>; 2] {
-        let Range { start, end } = self.pieces[piece].clone();
+    /// Segment `segment` cut in two at the block boundary nearest its middle (the second
+    /// half empty when it is one block): whole blocks of one colour in one row each, so the
+    /// halves touch disjoint discs and may be resolved side by side.
+    pub(crate) fn halves(&self, segment: usize) -> [Range<usize>; 2] {
+        let Range { start, end } = self.segments[segment].clone();
         let list = &self.list;
         let same_block = |k: usize| list[k].key == list[k - 1].key;
         let middle = start + (end - start) / 2;
@@ -636,21 +725,32 @@ unsafe fn test_case(
     let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
     let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
     let pair = |i: usize, j: usize| law.collision_distance(p.radius[i], p.radius[j]);
+    let uniform = uniform
+        .map(|r| law.collision_distance(r, r))
+        .filter(|d| d.is_finite());
     // SAFETY: the caller's promise.
     unsafe {
         match (min_image.is_periodic(), uniform) {
-            (false, Some(r)) => {
-                let d = law.collision_distance(r, r);
-                test(candidates, p, grid, emit, plain, |_, _| d)
-            }
-            (true, Some(r)) => {
-                let d = law.collision_distance(r, r);
-                test(candidates, p, grid, emit, image, |_, _| d)
-            }
-            (false, None) => test(candidates, p, grid, emit, plain, pair),
-            (true, None) => test(candidates, p, grid, emit, image, pair),
+            (false, Some(d)) => test::<true>(candidates, p, grid, emit, plain, |_, _| d),
+            (true, Some(d)) => test::<true>(candidates, p, grid, emit, image, |_, _| d),
+            (false, None) => test::<false>(candidates, p, grid, emit, plain, pair),
+            (true, None) => test::<false>(candidates, p, grid, emit, image, pair),
         }
     }
+}
+
+/// The largest `d2` whose correctly rounded square root is at most `reach` (finite, `>= 0`):
+/// `d2 <= sqrt_limit(reach)` exactly when `d2.sqrt() <= reach`, as the square root is
+/// monotone. A couple of steps of one unit in the last place from `reach²`.
+fn sqrt_limit(reach: f64) -> f64 {
+    let mut limit = reach * reach;
+    while limit.next_up().sqrt() <= reach {
+        limit = limit.next_up();
+    }
+    while limit.sqrt() > reach {
+        limit = limit.next_down();
+    }
+    limit
 }
 
 /// Tests candidate pairs with the seed's rule, giving each contact (lower id first) to
@@ -660,7 +760,7 @@ unsafe fn test_case(
 /// # Safety
 /// Every index in `candidates` is below `p.len()`.
 #[inline(always)]
-unsafe fn test(
+unsafe fn test<const UNIFORM: bool>(
     candidates: &[Pair],
     p: &Particles,
     grid: &OrderGrid,
@@ -669,6 +769,15 @@ unsafe fn test(
     reach: impl Fn(usize, usize) -> f64,
 ) -> f64 {
     let mut max_overlap = 0.0f64;
+    // With one collision distance for every pair, the seed's test `sqrt(d2) <= reach` is
+    // `d2 <= limit` for one limit (no square root per pair, whose latency dominated the
+    // test), and the largest overlap is that of the nearest pair.
+    let limit = if UNIFORM {
+        sqrt_limit(reach(0, 0))
+    } else {
+        0.0
+    };
+    let mut nearest2 = f64::INFINITY;
     let (x, y) = (&p.x[..], &p.y[..]);
     // Screen: the candidates within the squared reach (with a margin), written branch-free
     // (in a pile a third of the candidates collide, at random: a branch there mispredicts
@@ -691,30 +800,47 @@ unsafe fn test(
             };
             let [dx, dy] = diff(xi, yi, xj, yj);
             let d2 = dx * dx + dy * dy;
-            let reach = reach(i, j);
             hits[n] = k as u16;
-            n += (d2 <= reach * reach * (1.0 + 1e-12)) as usize;
+            n += if UNIFORM {
+                d2 <= limit
+            } else {
+                let reach = reach(i, j);
+                d2 <= reach * reach * (1.0 + 1e-12)
+            } as usize;
         }
         for &k in &hits[..n] {
             let [i, j] = chunk[k as usize];
             let (i, j) = (i as usize, j as usize);
             let [dx, dy] = diff(x[i], y[i], x[j], y[j]);
-            let reach = reach(i, j);
-            // The seed's exact test on the distance itself (so rounding matches
-            // `Law::is_colliding`).
-            let distance = (dx * dx + dy * dy).sqrt();
-            if distance <= reach {
+            if UNIFORM {
+                // The screen was the exact test; the same bits give the same distance.
+                nearest2 = nearest2.min(dx * dx + dy * dy);
+            } else {
+                let reach = reach(i, j);
+                // The seed's exact test on the distance itself (so rounding matches
+                // `Law::is_colliding`).
+                let distance = (dx * dx + dy * dy).sqrt();
+                // (NaN distances never collide.)
+                let colliding = distance <= reach;
+                if !colliding {
+                    continue;
+                }
                 max_overlap = max_overlap.max(reach - distance);
-                let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
-                let contact = Contact {
-                    key: grid.key(x[a], y[a]),
-                    ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
-                    a: a as u32,
-                    b: b as u32,
-                };
-                emit(c * SCREEN + k as usize, contact);
             }
+            let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
+            let contact = Contact {
+                key: grid.key(x[a], y[a]),
+                ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
+                a: a as u32,
+                b: b as u32,
+            };
+            emit(c * SCREEN + k as usize, contact);
         }
+    }
+    if UNIFORM && nearest2 < f64::INFINITY {
+        // `reach - sqrt(d2)` falls as `d2` grows (both roundings are monotone), so the
+        // nearest pair's overlap is the largest, bit for bit.
+        max_overlap = max_overlap.max(reach(0, 0) - nearest2.sqrt());
     }
     max_overlap
 }
@@ -816,12 +942,13 @@ impl OrderGrid {
         }))
     }
 
-    /// The sort key of a contact whose lower-id disc is at `(x, y)`.
+    /// The sort key of a contact whose lower-id disc is at `(x, y)`: its block in the wave
+    /// order (see the module docs), wave first (the block row rounded up to even), then the
+    /// row's parity (colours 0 and 1 before 2 and 3), the column's (the colour within the
+    /// pair) and the column.
     #[inline]
     fn key(&self, x: f64, y: f64) -> u64 {
-        let (bx, by) = (self.0[0].block(x), self.0[1].block(y));
-        let colour = (bx & 1) | ((by & 1) << 1);
-        (colour << 62) | (by << 31) | bx
+        block_key(self.0[0].block(x), self.0[1].block(y))
     }
 }
 
@@ -836,7 +963,7 @@ mod tests {
 
     #[test]
     fn the_bucket_sort_gives_the_canonical_order() {
-        // Contacts with keys as `OrderGrid::key` makes them (colour from the parities),
+        // Contacts with keys as `OrderGrid::key` makes them (`block_key`),
         // dense (the bucket sort) and sparse (the comparison sort), against a plain sort.
         let exec = crate::parallel::Executor::default();
         let config = Config::default();
@@ -852,10 +979,9 @@ mod tests {
             let list: Vec<Contact> = (0..count)
                 .map(|k| {
                     let (bx, by) = (next() % span + 7, next() % span + 11);
-                    let colour = (bx & 1) | ((by & 1) << 1);
                     let lower = next() % 50;
                     Contact {
-                        key: (colour << 62) | (by << 31) | bx,
+                        key: block_key(bx, by),
                         ids: (lower << 32) | (lower + 1 + k),
                         a: k as u32,
                         b: 0,
@@ -949,7 +1075,10 @@ mod tests {
         };
         let grid = order_grid(&config, 0.5);
         // Blocks are two cells of 1.01 wide.
-        let colour = |x: f64, y: f64| grid.key(x, y) >> 62;
+        let colour = |x: f64, y: f64| {
+            let key = grid.key(x, y);
+            row_parity_of(key) * 2 + (column_of(key) & 1)
+        };
         assert_eq!(colour(0.5, 0.5), 0);
         assert_eq!(colour(2.5, 0.5), 1);
         assert_eq!(colour(0.5, 2.5), 2);

@@ -2,8 +2,9 @@
 //!
 //! Pairs are resolved one after another on the current state (Gauss–Seidel style, as the
 //! seed's loop does): a disc pushed by one pair is seen at its new place by the next. The
-//! order is the canonical order of `contacts`; the pieces of one colour touch disjoint discs,
-//! so they run in parallel and still give the serial result bit for bit.
+//! order is the wave order of `contacts` (the canonical order's bits in one sweep); the pieces
+//! of one phase touch disjoint discs, so they run in parallel and still give the serial
+//! result bit for bit.
 //!
 //! With more than one solver pass, walls are contacts too: after each pass's pairs,
 //! [`resolve_walls`] bounces every disc that touches a wall and moves into it. Without it
@@ -63,10 +64,10 @@ fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
 /// [`resolve_all`] with whether to prefetch (`PREFETCH`) and whether the mass is the
 /// radius (`RADIUS_MASS`, the seed's model) fixed, and the walls' corners if any.
 ///
-/// Each piece is cut at a block boundary into two halves whose blocks are of one colour, so
-/// they touch disjoint discs (see `contacts`): their contacts go through the law two at a
-/// time, one per lane ([`F64x2`]), with the bits of one at a time. What one half has left
-/// over goes alone.
+/// Each segment of a piece (one colour of one block row) is cut at a block boundary into two
+/// halves, which touch disjoint discs (see `contacts`): their contacts go through the law
+/// two at a time, one per lane ([`F64x2`]), with the bits of one at a time. What one half
+/// has left over goes alone.
 fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
     contacts: &Contacts,
     p: &mut Particles,
@@ -102,10 +103,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
     // virial of the lanes `counted` says to `virial`.
     //
     // SAFETY (for callers): the lanes' contacts touch disjoint discs, and no other thread
-    // touches them meanwhile: the contacts of one piece touch discs in its blocks' cells and
-    // their one-cell ring; pieces of one colour hold whole blocks of that colour, which are
-    // two cells apart (see `contacts`). Indices come from the current storage, so they are
-    // in bounds.
+    // touches them meanwhile: the contacts of one block touch discs in its cells and their
+    // one-cell ring, and the pieces of one phase hold blocks rows that are that far apart
+    // (see `Contacts::split`). Indices come from the current storage, so they are in bounds.
     #[inline(always)]
     unsafe fn resolve<L: Lanes>(
         pair: impl Fn(usize) -> (usize, usize),
@@ -188,52 +188,58 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
         tally,
     };
     let mut virial = ExactSum::new();
+    let list = &contacts.list[..];
+    let indices = |c: &Contact| (c.a as usize, c.b as usize);
+    // One segment: its halves side by side, then what is left of the longer one alone.
+    let segment = |s: usize, virial: &mut ExactSum| {
+        let [first, second] = contacts.halves(s);
+        let paired = first.len().min(second.len());
+        for k in 0..paired {
+            let (one, two) = (&list[first.start + k], &list[second.start + k]);
+            if PREFETCH {
+                // Contacts touch scattered discs: start loading later ones' discs now.
+                for half in [&first, &second] {
+                    if let Some(ahead) = list.get(half.start + k + PREFETCH_AHEAD / 2) {
+                        prefetch_discs(ahead);
+                    }
+                }
+            }
+            let pair = |lane: usize| {
+                if lane == 0 {
+                    indices(one)
+                } else {
+                    indices(two)
+                }
+            };
+            // SAFETY: two contacts of different halves: disjoint discs (see above).
+            unsafe { resolve::<F64x2>(pair, |_| true, &discs, virial) };
+        }
+        let rest = if first.len() > paired {
+            first.start + paired..first.end
+        } else {
+            second.start + paired..second.end
+        };
+        for k in rest.clone() {
+            if PREFETCH && let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
+                prefetch_discs(ahead);
+            }
+            let contact = &list[k];
+            // SAFETY: one contact at a time.
+            unsafe { resolve::<f64>(|_| indices(contact), |_| true, &discs, virial) };
+        }
+    };
     for phase in &contacts.phases {
         // A contact costs a few cache misses: count it as a few discs' work.
-        let pieces = &contacts.pieces[phase.clone()];
-        let work = 4 * (pieces.last().map_or(0, |p| p.end) - pieces.first().map_or(0, |p| p.start));
+        let work = 4 * phase
+            .clone()
+            .map(|p| contacts.piece_contacts(p))
+            .sum::<usize>();
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
-            let list = &contacts.list[..];
-            let [first, second] = contacts.halves(piece);
             let mut virial = ExactSum::new();
-            let paired = first.len().min(second.len());
-            let indices = |c: &Contact| (c.a as usize, c.b as usize);
-            for k in 0..paired {
-                let (one, two) = (&list[first.start + k], &list[second.start + k]);
-                if PREFETCH {
-                    // Contacts touch scattered discs: start loading later ones' discs now.
-                    for half in [&first, &second] {
-                        if let Some(ahead) = list.get(half.start + k + PREFETCH_AHEAD / 2) {
-                            prefetch_discs(ahead);
-                        }
-                    }
+            for segments in &contacts.pieces[piece] {
+                for s in segments.clone() {
+                    segment(s, &mut virial);
                 }
-                let pair = |lane: usize| {
-                    if lane == 0 {
-                        indices(one)
-                    } else {
-                        indices(two)
-                    }
-                };
-                // SAFETY: two contacts of different halves: disjoint discs (see above).
-                unsafe { resolve::<F64x2>(pair, |_| true, &discs, &mut virial) };
-            }
-            let rest = if first.len() > paired {
-                first.start + paired..first.end
-            } else {
-                second.start + paired..second.end
-            };
-            for k in rest.clone() {
-                if PREFETCH
-                    && let Some(ahead) = list
-                        .get(k + PREFETCH_AHEAD)
-                        .filter(|_| k + PREFETCH_AHEAD < rest.end)
-                {
-                    prefetch_discs(ahead);
-                }
-                let contact = &list[k];
-                // SAFETY: one contact at a time.
-                unsafe { resolve::<f64>(|_| indices(contact), |_| true, &discs, &mut virial) };
             }
             virial
         });
