@@ -62,6 +62,17 @@ pub(super) fn list_candidates(
     });
 }
 
+/// Makes room in both bands for `n` more pairs.
+#[inline(always)]
+fn reserve(out: &mut Bands, n: usize) {
+    for pairs in out.iter_mut() {
+        if pairs.capacity() - pairs.len() < n {
+            // Grow by a quarter, not double: the lists are a large part of the memory.
+            pairs.reserve_exact(n.max(pairs.capacity() / 4));
+        }
+    }
+}
+
 /// The squared distances that sort a run's pairs into bands: the end of the near band, and
 /// the cut (the end of the far one).
 struct Cuts {
@@ -120,6 +131,23 @@ impl Context<'_> {
         cuts: &Cuts,
         out: &mut Bands,
     ) {
+        reserve(out, others.len());
+        // SAFETY: room reserved just now.
+        unsafe { self.test_in_room::<PERIODIC>(a, others, cuts, out) };
+    }
+
+    /// [`Context::test`] where each band already has room for `others.len()` more pairs.
+    ///
+    /// # Safety
+    /// Each band's spare capacity is at least `others.len()`.
+    #[inline(always)]
+    unsafe fn test_in_room<const PERIODIC: bool>(
+        &self,
+        a: usize,
+        others: Range<usize>,
+        cuts: &Cuts,
+        out: &mut Bands,
+    ) {
         let (xa, ya) = (self.x[a], self.y[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
@@ -128,12 +156,8 @@ impl Context<'_> {
         // every pair is written to its band's spare capacity and that band's length only
         // advances on a hit.
         let [near, far] = out;
-        for pairs in [&mut *near, &mut *far] {
-            if pairs.capacity() - pairs.len() < xs.len() {
-                // Grow by a quarter, not double: the lists are a large part of the memory.
-                pairs.reserve_exact(xs.len().max(pairs.capacity() / 4));
-            }
-        }
+        debug_assert!(near.capacity() - near.len() >= xs.len());
+        debug_assert!(far.capacity() - far.len() >= xs.len());
         let (mut near_len, mut far_len) = (near.len(), far.len());
         let (near_spare, far_spare) = (near.as_mut_ptr(), far.as_mut_ptr());
         for (k, (&xb, &yb)) in xs.iter().zip(ys).enumerate() {
@@ -144,8 +168,8 @@ impl Context<'_> {
             };
             let d2 = dx * dx + dy * dy;
             let pair = [a as u32, (start + k) as u32];
-            // SAFETY: each band has room for `xs.len()` more pairs (reserved above) and
-            // advances by at most one per iteration.
+            // SAFETY: each band has room for `xs.len()` more pairs (the caller's promise)
+            // and advances by at most one per iteration.
             unsafe {
                 near_spare.add(near_len).write(pair);
                 far_spare.add(far_len).write(pair);
@@ -183,9 +207,18 @@ impl Context<'_> {
                     let first_end = self.cell_start[own_cell + 2] as usize;
                     let upper =
                         self.cell_start[above - 1] as usize..self.cell_start[above + 2] as usize;
+                    // Room for every pair of the cell's discs with the two runs, at once.
+                    let per_disc = first_end - own.start + upper.len();
                     for a in own.clone() {
-                        self.test::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
-                        self.test::<PERIODIC>(a, upper.clone(), &own_cuts, out);
+                        reserve(out, per_disc);
+                        // SAFETY: room for `per_disc` pairs, more than the two runs hold.
+                        unsafe {
+                            self.test_in_room::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
+                            let [near, far] = &*out;
+                            debug_assert!(near.capacity() - near.len() >= upper.len());
+                            debug_assert!(far.capacity() - far.len() >= upper.len());
+                            self.test_in_room::<PERIODIC>(a, upper.clone(), &own_cuts, out);
+                        }
                         for level in coarser {
                             self.scan_level::<PERIODIC>(a, level, out);
                         }

@@ -59,8 +59,11 @@ pub(super) fn counting_sort(
     for &k in keys.iter() {
         cell_start[k as usize + 1] += 1;
     }
-    for c in 0..total_cells {
-        cell_start[c + 1] += cell_start[c];
+    // The running sum in a register: a sum through memory waits on each store.
+    let mut sum = 0;
+    for start in cell_start.iter_mut() {
+        sum += *start;
+        *start = sum;
     }
     order.clear();
     order.resize(count, 0);
