@@ -27,7 +27,7 @@
 
 use std::ops::Range;
 
-use crate::broadphase::{BANDS, Broadphase, Pair, floor_to_isize};
+use crate::broadphase::{BANDS, Broadphase, Pair, floor_to_isize, wrap_index};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, OrderAxisFrame};
 use crate::law::Law;
@@ -87,6 +87,8 @@ pub(crate) struct Contacts {
     /// Whether the last detection found contacts dense among the candidates (a pile): then
     /// the candidates are kept in canonical order instead of sorting the contacts.
     dense: bool,
+    /// The listing the last detection tested, and how many detections have tested it.
+    listing: (u64, u32),
     /// Always sort the contacts (a test compares the two ways).
     #[cfg(test)]
     pub(crate) never_presort: bool,
@@ -109,6 +111,10 @@ struct Presorted {
 
 /// Blocks of presorted candidates tested together: about this many candidates.
 const CANDIDATES_PER_CHUNK: usize = 16384;
+/// Candidates are presorted once this many detections have tested them: sorting them costs
+/// a few detections' sorts, worth it only for lists that last (a resting pile keeps one for
+/// dozens of substeps; a fast gas lists anew every step or two).
+const DETECTIONS_BEFORE_PRESORT: u32 = 3;
 /// Contacts are dense (a pile: the candidates are worth keeping in canonical order) when
 /// at least this share of the candidates tested collide. A gas has about 1.5 %, a pile 35 %.
 const DENSE_SHARE: f64 = 0.125;
@@ -214,7 +220,14 @@ impl Contacts {
         let presort = !self.never_presort;
         #[cfg(not(test))]
         let presort = true;
-        let max_overlap = if presort && self.dense && ctx.stack_order.is_none() {
+        let generation = broadphase.generation();
+        self.listing = match self.listing {
+            (listed, count) if listed == generation => (listed, count.saturating_add(1)),
+            _ => (generation, 1),
+        };
+        let lasting = self.listing.1 > DETECTIONS_BEFORE_PRESORT
+            || self.presorted.generation == Some(generation);
+        let max_overlap = if presort && self.dense && lasting && ctx.stack_order.is_none() {
             self.presort(broadphase, p, &grid, ctx);
             self.find_presorted(broadphase, bands, p, &grid, ctx)
         } else {
@@ -342,7 +355,10 @@ impl Contacts {
             presorted.chunks.push(chunk_start..presorted.blocks.len());
         }
         presorted.generation = Some(broadphase.generation());
-        self.list.clear();
+        // The candidates' copies are done with: give their memory back (contacts are
+        // fewer than candidates).
+        self.list = Vec::new();
+        self.found = Vec::new();
     }
 
     /// Detection through the presorted near candidates: contacts whose lower-id disc is
@@ -865,7 +881,7 @@ impl OrderAxis {
         }
         let cell = floor_to_isize((v - self.origin) * self.inv_cell);
         let cell = if self.wrap > 0 {
-            cell.rem_euclid(self.wrap)
+            wrap_index(cell, self.wrap)
         } else {
             // Clamping never moves two cell coordinates further apart.
             cell.clamp(-HALF_RANGE, HALF_RANGE - 1) + HALF_RANGE

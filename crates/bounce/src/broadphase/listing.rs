@@ -14,7 +14,7 @@
 use std::ops::Range;
 
 use super::Bands;
-use super::levels::{LevelGrid, floor_to_isize};
+use super::levels::{LevelGrid, floor_to_isize, wrap_index};
 use super::sort::Block;
 use crate::context::StepContext;
 use crate::geometry::MinImage;
@@ -281,7 +281,7 @@ impl Context<'_> {
                 if hi - lo + 1 >= n {
                     (0, n as usize)
                 } else {
-                    (lo.rem_euclid(n), (hi - lo + 1) as usize)
+                    (wrap_index(lo, n), (hi - lo + 1) as usize)
                 }
             } else {
                 // Clamped like `coord`, so outliers in edge cells are still met.
@@ -293,7 +293,8 @@ impl Context<'_> {
         let (y_first, y_count) = span(1);
         let (nx, ny) = (grid.n[0] as isize, grid.n[1] as isize);
         for k in 0..y_count as isize {
-            let cy = ((y_first + k) % ny) as usize;
+            // Below two periods: one subtraction, not a division.
+            let cy = wrap_index(y_first + k, ny) as usize;
             // The row's cells are contiguous in memory: one range, or two where it wraps.
             let end = x_first + x_count as isize;
             let first_run = (x_first as usize, (end.min(nx) - 1) as usize);

@@ -54,7 +54,7 @@ mod sort;
 
 use std::cell::RefCell;
 
-pub(crate) use levels::floor_to_isize;
+pub(crate) use levels::{floor_to_isize, wrap_index};
 pub(crate) use reference::Reference;
 
 use crate::context::StepContext;
