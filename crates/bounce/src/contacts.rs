@@ -82,7 +82,7 @@ pub(crate) struct Contacts {
     /// The near candidates in canonical order, when contacts are dense.
     presorted: Presorted,
     /// Contacts the presorted path found out of place (their lower-id disc changed block
-    /// since the listing, or from the far band), per chunk.
+    /// since the presort, or from the far band), per chunk.
     out_of_place: Vec<Vec<Contact>>,
     /// Whether the last detection found contacts dense among the candidates (a pile): then
     /// the candidates are kept in canonical order instead of sorting the contacts.
@@ -95,7 +95,7 @@ pub(crate) struct Contacts {
 }
 
 /// The near band's candidates in canonical order: each pair lower id first, in the order
-/// their contacts take (block of the lower-id disc at the listing, then ids). Contacts then
+/// their contacts take (block of the lower-id disc when sorted, then ids). Contacts then
 /// come out of the test in order, but for the few whose lower-id disc has since moved to
 /// another block.
 #[derive(Debug, Default)]

@@ -100,7 +100,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
         }
     };
     // The contacts `pair(lane)` (storage indices, lower id first), one per lane; adds the
-    // virial of the lanes `counted` says to `virial`.
+    // lanes' virial (those the tally counts) to `virial`.
     //
     // SAFETY (for callers): the lanes' contacts touch disjoint discs, and no other thread
     // touches them meanwhile: the contacts of one block touch discs in its cells and their
@@ -109,7 +109,6 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
     #[inline(always)]
     unsafe fn resolve<L: Lanes>(
         pair: impl Fn(usize) -> (usize, usize),
-        counted: impl Fn(usize) -> bool,
         discs: &Discs<'_, impl Fn(usize) -> f64>,
         virial: &mut ExactSum,
     ) {
@@ -155,7 +154,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
             let term = diff[0] * impulse[0] + diff[1] * impulse[1];
             let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
             term.each(|k, term| {
-                if counted(k) && tally.is_none_or(|t| t.counts(xa_at[k], ya_at[k])) {
+                if tally.is_none_or(|t| t.counts(xa_at[k], ya_at[k])) {
                     virial.add(term);
                 }
             });
@@ -212,7 +211,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
                 }
             };
             // SAFETY: two contacts of different halves: disjoint discs (see above).
-            unsafe { resolve::<F64x2>(pair, |_| true, &discs, virial) };
+            unsafe { resolve::<F64x2>(pair, &discs, virial) };
         }
         let rest = if first.len() > paired {
             first.start + paired..first.end
@@ -225,7 +224,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
             }
             let contact = &list[k];
             // SAFETY: one contact at a time.
-            unsafe { resolve::<f64>(|_| indices(contact), |_| true, &discs, virial) };
+            unsafe { resolve::<f64>(|_| indices(contact), &discs, virial) };
         }
     };
     for phase in &contacts.phases {
