@@ -54,6 +54,22 @@ pub(crate) struct Contact {
     pub(crate) b: u32,
 }
 
+impl Contact {
+    /// The contact of discs `i` and `j` (storage indices into `id`, `x`, `y`): lower id
+    /// first, keyed by its block. (Slices, not `Particles`: the hot loop keeps them in
+    /// registers.)
+    #[inline(always)]
+    fn of(id: &[ParticleId], [x, y]: [&[f64]; 2], grid: &OrderGrid, i: usize, j: usize) -> Self {
+        let (a, b) = if id[i] < id[j] { (i, j) } else { (j, i) };
+        Contact {
+            key: grid.key(x[a], y[a]),
+            ids: (u64::from(id[a].0) << 32) | u64::from(id[b].0),
+            a: a as u32,
+            b: b as u32,
+        }
+    }
+}
+
 /// What detection measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Detection {
@@ -316,16 +332,11 @@ impl Contacts {
         let work = candidates.iter().map(|b| b[0].len()).sum();
         let bounds = ctx.exec.map_mut(work, &mut self.found, |block, found| {
             found.clear();
-            found.extend(candidates[block][0].iter().map(|&[i, j]| {
-                let (i, j) = (i as usize, j as usize);
-                let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
-                Contact {
-                    key: grid.key(p.x[a], p.y[a]),
-                    ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
-                    a: a as u32,
-                    b: b as u32,
-                }
-            }));
+            found.extend(
+                candidates[block][0]
+                    .iter()
+                    .map(|&[i, j]| Contact::of(&p.id, [&p.x, &p.y], grid, i as usize, j as usize)),
+            );
             BlockBounds::of(found)
         });
         let bounds = bounds
@@ -618,19 +629,16 @@ impl Contacts {
             let odd_end = (odd_start..band.end)
                 .find(|&s| wave(s) != first)
                 .unwrap_or(band.end);
-            (odd_start, odd_end)
+            odd_start..odd_end
         };
-        for band in &bands {
-            let (odd_start, odd_end) = first_odd(band);
-            self.pieces.push([band.start..odd_start, odd_end..band.end]);
+        let odd_rows: Vec<Range<usize>> = bands.iter().map(first_odd).collect();
+        for (band, odd) in bands.iter().zip(&odd_rows) {
+            self.pieces.push([band.start..odd.start, odd.end..band.end]);
         }
         self.phases.push(0..self.pieces.len());
         let second = self.pieces.len();
-        for band in &bands {
-            let (odd_start, odd_end) = first_odd(band);
-            if odd_end > odd_start {
-                self.pieces.push([odd_start..odd_end, odd_end..odd_end]);
-            }
+        for odd in odd_rows.iter().filter(|odd| !odd.is_empty()) {
+            self.pieces.push([odd.clone(), odd.end..odd.end]);
         }
         self.phases.push(second..self.pieces.len());
     }
@@ -794,7 +802,7 @@ unsafe fn test<const UNIFORM: bool>(
         0.0
     };
     let mut nearest2 = f64::INFINITY;
-    let (x, y) = (&p.x[..], &p.y[..]);
+    let (x, y, id) = (&p.x[..], &p.y[..], &p.id[..]);
     // Screen: the candidates within the squared reach (with a margin), written branch-free
     // (in a pile a third of the candidates collide, at random: a branch there mispredicts
     // often). Each chunk's survivors are then given the seed's exact test.
@@ -843,14 +851,7 @@ unsafe fn test<const UNIFORM: bool>(
                 }
                 max_overlap = max_overlap.max(reach - distance);
             }
-            let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
-            let contact = Contact {
-                key: grid.key(x[a], y[a]),
-                ids: (u64::from(p.id[a].0) << 32) | u64::from(p.id[b].0),
-                a: a as u32,
-                b: b as u32,
-            };
-            emit(c * SCREEN + k as usize, contact);
+            emit(c * SCREEN + k as usize, Contact::of(id, [x, y], grid, i, j));
         }
     }
     if UNIFORM && nearest2 < f64::INFINITY {

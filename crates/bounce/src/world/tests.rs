@@ -22,10 +22,14 @@ fn world(boundary: Boundary, threads: usize) -> World {
         drift: [0.0, 0.0],
         seed: 3,
     };
-    let mut world = World::new(config.clone()).unwrap();
-    world
-        .add_particles(scene::gas(&gas, &config).unwrap())
-        .unwrap();
+    let discs = scene::gas(&gas, &config).unwrap();
+    world_of(config, discs, threads)
+}
+
+/// A world of `discs` stepping on `threads` threads, every stage on the workers.
+fn world_of(config: Config, discs: Vec<Particle>, threads: usize) -> World {
+    let mut world = World::new(config).unwrap();
+    world.add_particles(discs).unwrap();
     world.set_threads(threads).unwrap();
     world.set_parallel_min_work(0);
     world
@@ -227,12 +231,8 @@ fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references(
             drift: [0.0, 0.0],
             seed: 5,
         };
-        let mut world = World::new(config.clone()).unwrap();
-        world
-            .add_particles(scene::gas(&gas, &config).unwrap())
-            .unwrap();
-        world.set_threads(2).unwrap();
-        world.set_parallel_min_work(0);
+        let discs = scene::gas(&gas, &config).unwrap();
+        let mut world = world_of(config, discs, 2);
         let (mut near_only, mut both) = (0, 0);
         for _ in 0..200 {
             world.step(1.0 / 60.0).unwrap();
@@ -328,12 +328,8 @@ fn presorted_candidates_give_the_bits_of_sorted_contacts() {
                 drift: [0.0, 0.0],
                 seed: 8,
             };
-            let mut world = World::new(config.clone()).unwrap();
-            world
-                .add_particles(scene::packed_gas(&gas, &config, &[]).unwrap())
-                .unwrap();
-            world.set_threads(2).unwrap();
-            world.set_parallel_min_work(0);
+            let discs = scene::packed_gas(&gas, &config, &[]).unwrap();
+            let mut world = world_of(config, discs, 2);
             world.contacts.never_presort = !presort;
             for _ in 0..150 {
                 world.step(1.0 / 60.0).unwrap();
