@@ -48,10 +48,12 @@ pub(super) fn list_candidates(
         for pairs in bands.iter_mut() {
             pairs.clear();
         }
-        if min_image.is_periodic() {
-            search.block_pairs::<true>(&blocks[b], bands);
-        } else {
-            search.block_pairs::<false>(&blocks[b], bands);
+        let pairwise = grids[blocks[b].level].pairwise;
+        match (min_image.is_periodic(), pairwise) {
+            (true, false) => search.block_pairs::<true, false>(&blocks[b], bands),
+            (false, false) => search.block_pairs::<false, false>(&blocks[b], bands),
+            (true, true) => search.block_pairs::<true, true>(&blocks[b], bands),
+            (false, true) => search.block_pairs::<false, true>(&blocks[b], bands),
         }
         for pairs in bands.iter_mut() {
             // A list kept from a larger block of an earlier grid gives back its excess.
@@ -88,7 +90,9 @@ fn interior(g: &LevelGrid, cx: usize, cy: usize) -> bool {
 }
 
 /// Read-only view the candidate search of one block needs. Its methods' `PERIODIC` picks
-/// the minimum image at compile time.
+/// the minimum image at compile time, and `PAIRWISE` whether each pair is cut at its own
+/// collision distance (in a merged level, whose radii differ by more than a factor 2) or
+/// all at the run's `Cuts`.
 pub(super) struct Context<'a> {
     x: &'a [f64],
     y: &'a [f64],
@@ -124,7 +128,7 @@ impl Context<'_> {
     /// distance plus the margin of every pair tested, so each list is a superset and one
     /// constant serves a whole run), each pair in its band.
     #[inline(always)]
-    fn test<const PERIODIC: bool>(
+    fn test<const PERIODIC: bool, const PAIRWISE: bool>(
         &self,
         a: usize,
         others: Range<usize>,
@@ -133,7 +137,7 @@ impl Context<'_> {
     ) {
         reserve(out, others.len());
         // SAFETY: room reserved just now.
-        unsafe { self.test_in_room::<PERIODIC>(a, others, cuts, out) };
+        unsafe { self.test_in_room::<PERIODIC, PAIRWISE>(a, others, cuts, out) };
     }
 
     /// [`Context::test`] where each band already has room for `others.len()` more pairs.
@@ -141,17 +145,19 @@ impl Context<'_> {
     /// # Safety
     /// Each band's spare capacity is at least `others.len()`.
     #[inline(always)]
-    unsafe fn test_in_room<const PERIODIC: bool>(
+    unsafe fn test_in_room<const PERIODIC: bool, const PAIRWISE: bool>(
         &self,
         a: usize,
         others: Range<usize>,
         cuts: &Cuts,
         out: &mut Bands,
     ) {
-        let (xa, ya) = (self.x[a], self.y[a]);
+        let (xa, ya, ra) = (self.x[a], self.y[a], self.radius[a]);
         let start = others.start;
         // Slices first: the loop then runs without bounds checks.
-        let (xs, ys) = (&self.x[others.clone()], &self.y[others]);
+        let (xs, ys) = (&self.x[others.clone()], &self.y[others.clone()]);
+        let rs = if PAIRWISE { &self.radius[others] } else { &[] };
+        let half_margin = 0.5 * self.margin;
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to its band's spare capacity and that band's length only
         // advances on a hit.
@@ -167,6 +173,20 @@ impl Context<'_> {
                 [xa - xb, ya - yb]
             };
             let d2 = dx * dx + dy * dy;
+            let Cuts { near2, cut2 } = if PAIRWISE {
+                // As `cuts` does for the run's largest collision distance.
+                let reach = self.law.collision_distance(ra, rs[k]);
+                let (near, cut) = (reach + half_margin, reach + self.margin);
+                Cuts {
+                    near2: near * near,
+                    cut2: cut * cut,
+                }
+            } else {
+                Cuts {
+                    near2: cuts.near2,
+                    cut2: cuts.cut2,
+                }
+            };
             let pair = [a as u32, (start + k) as u32];
             // SAFETY: each band has room for `xs.len()` more pairs (the caller's promise)
             // and advances by at most one per iteration.
@@ -174,9 +194,9 @@ impl Context<'_> {
                 near_spare.add(near_len).write(pair);
                 far_spare.add(far_len).write(pair);
             }
-            let is_far = d2 > cuts.near2;
-            near_len += (d2 <= cuts.near2) as usize;
-            far_len += (is_far & (d2 <= cuts.cut2)) as usize;
+            let is_far = d2 > near2;
+            near_len += (d2 <= near2) as usize;
+            far_len += (is_far & (d2 <= cut2)) as usize;
         }
         // SAFETY: the pairs up to these lengths were written above (or before).
         unsafe {
@@ -186,7 +206,11 @@ impl Context<'_> {
     }
 
     /// All candidates listed by the cells of `block`.
-    fn block_pairs<const PERIODIC: bool>(&self, block: &Block, out: &mut Bands) {
+    fn block_pairs<const PERIODIC: bool, const PAIRWISE: bool>(
+        &self,
+        block: &Block,
+        out: &mut Bands,
+    ) {
         let g = &self.levels[block.level];
         // Pairs across levels are listed by the finer disc: a coarser grid's cells are at
         // least the reach, so it scans at most 3×3 of them.
@@ -213,11 +237,21 @@ impl Context<'_> {
                         reserve(out, per_disc);
                         // SAFETY: room for `per_disc` pairs, more than the two runs hold.
                         unsafe {
-                            self.test_in_room::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
+                            self.test_in_room::<PERIODIC, PAIRWISE>(
+                                a,
+                                a + 1..first_end,
+                                &own_cuts,
+                                out,
+                            );
                             let [near, far] = &*out;
                             debug_assert!(near.capacity() - near.len() >= upper.len());
                             debug_assert!(far.capacity() - far.len() >= upper.len());
-                            self.test_in_room::<PERIODIC>(a, upper.clone(), &own_cuts, out);
+                            self.test_in_room::<PERIODIC, PAIRWISE>(
+                                a,
+                                upper.clone(),
+                                &own_cuts,
+                                out,
+                            );
                         }
                         for level in coarser {
                             self.scan_level::<PERIODIC>(a, level, out);
@@ -251,9 +285,9 @@ impl Context<'_> {
                 let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test::<PERIODIC>(a, a + 1..first_end, &own_cuts, out);
+                    self.test::<PERIODIC, PAIRWISE>(a, a + 1..first_end, &own_cuts, out);
                     for range in &ranges[1..count] {
-                        self.test::<PERIODIC>(a, range.clone(), &own_cuts, out);
+                        self.test::<PERIODIC, PAIRWISE>(a, range.clone(), &own_cuts, out);
                     }
                     // Coarser levels: every cell under this disc's reach.
                     for level in coarser {
@@ -303,7 +337,7 @@ impl Context<'_> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[grid.cell_index(c0, cy)] as usize
                     ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
-                self.test::<PERIODIC>(a, range, &cuts, out);
+                self.test::<PERIODIC, false>(a, range, &cuts, out);
             }
         }
     }

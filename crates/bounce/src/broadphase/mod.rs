@@ -127,6 +127,12 @@ impl Broadphase {
         (self.listed && self.uniform_radius).then_some(self.max_radius)
     }
 
+    /// How many grid levels the last binning used.
+    #[cfg(test)]
+    pub(crate) fn levels(&self) -> usize {
+        self.grids.len()
+    }
+
     /// Which listing the candidates are from (see `contacts`' presorted candidates).
     pub(crate) fn generation(&self) -> u64 {
         self.generation
@@ -262,10 +268,13 @@ impl Broadphase {
             return 0.0;
         }
         // 1. Levels: a band of interaction diameters each.
-        let (levels, [r_min, r_max]) = levels::assign(radius, &ctx.law, &mut self.level_of);
+        let (mut levels, [r_min, r_max]) = levels::assign(radius, &ctx.law, &mut self.level_of);
         self.max_radius = r_max;
         self.uniform_radius = r_min == r_max;
         let skin = skin.width(&ctx.law, levels[0].max_radius, r_max);
+        // Levels whose grids would all be about one disc per cell share one.
+        let extent = ctx.geometry.grid_extent();
+        levels::merge(&mut levels, &mut self.level_of, &ctx.law, skin, extent);
 
         // 2. One grid per level.
         let discs = Discs {
@@ -330,4 +339,59 @@ pub(crate) fn brute_force_pairs(p: &Particles, ctx: &StepContext) -> Vec<(Partic
     }
     out.sort_unstable();
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parallel::Executor;
+    use crate::{Boundary, Config};
+
+    /// Every listed pair, by storage indices, with its band.
+    fn listed(bp: &Broadphase) -> Vec<(Pair, usize)> {
+        let mut out: Vec<(Pair, usize)> = bp
+            .candidates
+            .iter()
+            .flat_map(|bands| {
+                bands.iter().enumerate().flat_map(|(band, pairs)| {
+                    pairs
+                        .iter()
+                        .map(move |&[a, b]| ([a.min(b), a.max(b)], band))
+                })
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn a_merged_level_cuts_each_pair_at_its_own_distance() {
+        // Four large discs and three small ones in a 100 × 100 box: every level's grid would
+        // be nearly empty, so they share one, with cells for the large discs. The small
+        // discs' pairs are still cut at 0.2 + margin (and banded at 0.2 + margin / 2), not
+        // at the large discs' 10 + margin.
+        let config = Config {
+            boundary: Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+            ..Config::default()
+        };
+        let exec = Executor::default();
+        let ctx = StepContext::new(&config, 0.1, &exec, None);
+        let margin = 0.15;
+        let x = [10.0, 30.0, 50.0, 70.0, 50.0, 50.0 + 0.3, 50.0 - 0.34, 50.0];
+        let y = [10.0, 10.0, 80.0, 10.0, 50.0, 50.0, 50.0, 50.4];
+        let radius = [5.0, 5.0, 5.0, 5.0, 0.1, 0.1, 0.1, 0.1];
+        let mut bp = Broadphase::default();
+        bp.list_in_place([&x, &y, &radius], &ctx, margin);
+        assert_eq!(bp.grids.len(), 1, "the levels share one grid");
+        assert!(bp.grids[0].pairwise);
+        // 4–5: 0.3 apart, past 0.2 + 0.075: far band. 4–6: 0.34 ≤ 0.35: far. 4–7: 0.4 >
+        // 0.35: not listed, though well within the large discs' reach. 5–6 (0.64) and the
+        // rest are farther still; no large disc is within reach of another or a small one.
+        assert_eq!(listed(&bp), vec![([4, 5], 1), ([4, 6], 1)]);
+        let near = [50.0 + 0.27];
+        let x2 = [&x[..5], &near[..]].concat();
+        bp.list_in_place([&x2, &y[..6], &radius[..6]], &ctx, margin);
+        // 0.27 ≤ 0.275: near.
+        assert_eq!(listed(&bp), vec![([4, 5], 0)]);
+    }
 }

@@ -209,11 +209,48 @@ fn a_sink_can_empty_the_world_and_it_keeps_stepping() {
     assert_eq!(back.state_hash(), world.state_hash());
 }
 
+/// Steps `world` 200 times; after each step, the bands detection would test for the true
+/// largest displacement find exactly the pairs the brute-force oracle finds. Returns how
+/// many steps tested the near band alone, how many both, and how many had one grid level.
+fn check_bands_every_step(world: &mut World) -> (usize, usize, usize) {
+    let (mut near_only, mut both, mut one_level) = (0, 0, 0);
+    for _ in 0..200 {
+        world.step(1.0 / 60.0).unwrap();
+        one_level += (world.broadphase.levels() == 1) as usize;
+        let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
+        let bp = &world.broadphase;
+        let p = &world.particles;
+        let (rx, ry) = bp.reference.positions(p.len()).unwrap();
+        let min_image = ctx.geometry.min_image();
+        let displacement2 = (0..p.len())
+            .map(|i| {
+                let [dx, dy] = min_image.diff(p.x[i], p.y[i], rx[i] as f64, ry[i] as f64);
+                dx * dx + dy * dy
+            })
+            .fold(0.0, f64::max);
+        let bands = bp.bands_within(displacement2);
+        if bands < broadphase::BANDS {
+            near_only += 1;
+        } else {
+            both += 1;
+        }
+        let mut contacts = Contacts::default();
+        contacts.find(bp, bands, p, &ctx);
+        let expected = world.colliding_pairs_brute_force();
+        assert_eq!(
+            contacts.pair_ids(p),
+            expected,
+            "{:?}",
+            world.config.boundary
+        );
+    }
+    (near_only, both, one_level)
+}
+
 #[test]
 fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references() {
-    // Between rebuilds, detection skips the far band while the displacements allow it. At
-    // every step, the bands it would test (for the true largest displacement) find exactly
-    // the pairs the brute-force oracle finds; both cases occur.
+    // Between rebuilds, detection skips the far band while the displacements allow it; both
+    // cases occur.
     for boundary in [
         Boundary::walls([0.0, 0.0], [60.0, 60.0]),
         Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
@@ -233,32 +270,39 @@ fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references(
         };
         let discs = scene::gas(&gas, &config).unwrap();
         let mut world = world_of(config, discs, 2);
-        let (mut near_only, mut both) = (0, 0);
-        for _ in 0..200 {
-            world.step(1.0 / 60.0).unwrap();
-            let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
-            let bp = &world.broadphase;
-            let p = &world.particles;
-            let (rx, ry) = bp.reference.positions(p.len()).unwrap();
-            let min_image = ctx.geometry.min_image();
-            let displacement2 = (0..p.len())
-                .map(|i| {
-                    let [dx, dy] = min_image.diff(p.x[i], p.y[i], rx[i] as f64, ry[i] as f64);
-                    dx * dx + dy * dy
-                })
-                .fold(0.0, f64::max);
-            let bands = bp.bands_within(displacement2);
-            if bands < broadphase::BANDS {
-                near_only += 1;
-            } else {
-                both += 1;
-            }
-            let mut contacts = Contacts::default();
-            contacts.find(bp, bands, p, &ctx);
-            let expected = world.colliding_pairs_brute_force();
-            assert_eq!(contacts.pair_ids(p), expected, "{boundary:?}");
-        }
+        let (near_only, both, _) = check_bands_every_step(&mut world);
         assert!(near_only > 10 && both > 10, "{near_only} {both}");
+    }
+}
+
+#[test]
+fn merged_levels_find_every_contact() {
+    // Radii 0.05 to 2.5 (six bands) about as sparse as the benchmark's polydisperse gas:
+    // one grid holds them all, each pair cut and banded at its own collision distance, and
+    // every step finds exactly the contacts of the oracle.
+    for boundary in [
+        Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+        Boundary::periodic([0.0, 0.0], [100.0, 100.0]),
+    ] {
+        let config = Config {
+            boundary: boundary.clone(),
+            ..Config::default()
+        };
+        let gas = Gas {
+            count: 250,
+            radius: [0.05, 2.5],
+            region: Some(([3.0, 3.0], [97.0, 97.0])),
+            speeds: Speeds::Uniform(6.0),
+            drift: [0.0, 0.0],
+            seed: 9,
+        };
+        let discs = scene::gas(&gas, &config).unwrap();
+        let mut world = world_of(config, discs, 2);
+        let (near_only, both, one_level) = check_bands_every_step(&mut world);
+        assert!(near_only > 10 && both > 10, "{near_only} {both}");
+        // Collisions with large discs speed small ones up, widening the skin and the cells
+        // until the levels part; most steps still share one grid.
+        assert!(one_level > 100, "{one_level} of 200 steps on one level");
     }
 }
 
