@@ -136,6 +136,28 @@ pub(super) fn level_of(d: f64, d_min: f64) -> usize {
     level
 }
 
+/// The upper bounds of the levels but the last, `d_min 2^(k+1)`: [`level_of`] without its
+/// loop. A disc's level is how many bounds its diameter exceeds (they increase, so that is
+/// the loop's count), found with comparisons and no branch: with radii spread at random,
+/// the loop's exit mispredicted about once a disc.
+struct LevelBounds([f64; MAX_LEVELS - 1]);
+
+impl LevelBounds {
+    fn new(d_min: f64) -> Self {
+        let mut bound = d_min;
+        // Doubled like the loop's band, so the same values (and infinities) come out.
+        LevelBounds(std::array::from_fn(|_| {
+            bound *= 2.0;
+            bound
+        }))
+    }
+
+    #[inline(always)]
+    fn level(&self, d: f64) -> usize {
+        self.0.iter().map(|&bound| (d > bound) as usize).sum()
+    }
+}
+
 /// Cells along one axis of width `width` for cells of at least `min_cell`.
 fn cells_along(width: f64, min_cell: f64, wrap: bool) -> usize {
     let n = (width / min_cell).floor();
@@ -168,7 +190,12 @@ pub(super) fn assign(radius: &[f64], law: &Law, level_of: &mut Vec<u8>) -> (Vec<
         };
         return (vec![single], [r_min, r_max]);
     }
-    level_of.extend(radius.iter().map(|&r| level_of_radius(law, r, d_min) as u8));
+    let bounds = LevelBounds::new(d_min);
+    level_of.extend(
+        radius
+            .iter()
+            .map(|&r| bounds.level(law.interaction_diameter(r)) as u8),
+    );
     let mut stats = [(0usize, 0.0f64); MAX_LEVELS];
     for (&l, &r) in level_of.iter().zip(radius) {
         let (n, max_r) = &mut stats[l as usize];
@@ -368,6 +395,23 @@ fn spread(coords: &[f64], level: usize, discs: &Discs) -> (f64, f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_bounds_give_the_levels_of_the_loop() {
+        for d_min in [1e-300, 1e-3, 0.1, 1.0, 3.7, 1e300] {
+            let bounds = LevelBounds::new(d_min);
+            let mut d = d_min;
+            while d.is_finite() {
+                for v in [d, d.next_up(), d * 1.37, d.next_down()] {
+                    assert_eq!(bounds.level(v), level_of(v, d_min), "{v} over {d_min}");
+                }
+                d *= 2.0;
+            }
+            for v in [f64::INFINITY, f64::NAN, 0.0] {
+                assert_eq!(bounds.level(v), level_of(v, d_min), "{v} over {d_min}");
+            }
+        }
+    }
 
     #[test]
     fn levels_band_by_factor_two() {

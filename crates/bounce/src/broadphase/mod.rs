@@ -2,7 +2,7 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | `levels.rs` | levels by interaction diameter, each level's grid and cell size |
+//! | `levels.rs` | levels by interaction diameter (merged where sparse), each level's grid and cell size |
 //! | `sort.rs` | the stable counting sort into cell order, the blocks of cell rows |
 //! | `listing.rs` | candidate listing through the grids (the stencils, cross-level scans) |
 //! | `reference.rs` | reference positions and the skin: when the list must be rebuilt |
@@ -33,6 +33,14 @@
 //! level through the 3×3 stencil, and discs of each coarser level through the at most 3×3
 //! cells of that grid under its reach (coarser cells are at least that reach). Cost stays
 //! proportional to the number of discs, whatever the mix.
+//!
+//! A grid has at most about one cell per disc, so when the small discs are few (radii
+//! uniform in 0.05–5) every level's cells are far wider than its discs, about one disc
+//! each. Then adjacent levels share one grid ([`levels::merge`], while it holds at most 1.5
+//! discs per cell): a disc tests as many neighbours as in its own level's grid, and no
+//! coarser grids are scanned. Such a merged level cuts each pair at its own collision
+//! distance plus the skin (not at its largest disc's), so two small discs in a large
+//! disc's cell are listed only when they are near each other.
 //!
 //! # Ownership and blocks
 //! Each candidate pair is listed once, by one cell: the cell of the finer disc, or for discs
