@@ -71,6 +71,28 @@ proptest! {
     }
 
     #[test]
+    fn grid_matches_brute_force_when_levels_share_a_grid(
+        kind in 0u8..2,
+        scale in 0.5..2.0f64,
+        particles in discs(200, 200.0, 5.0),
+    ) {
+        // Sparse discs of six bands in a box: fewer than one per cell of the largest, so
+        // the levels share one grid, each pair cut at its own collision distance.
+        let size = 200.0;
+        let config = Config { collision_radius_scale: scale, boundary: boundary(kind, size), ..Config::default() };
+        let mut world = World::new(config).unwrap();
+        for p in particles {
+            let p = Particle { position: [p.position[0].min(size - 1e-9), p.position[1].min(size - 1e-9)], ..p };
+            world.add_particle(p).unwrap();
+        }
+        check(&mut world)?;
+        for _ in 0..3 {
+            world.step(0.5).unwrap();
+            check(&mut world)?;
+        }
+    }
+
+    #[test]
     fn grid_matches_brute_force_with_one_giant(
         kind in 0u8..3,
         particles in discs(600, 40.0, 0.3),
