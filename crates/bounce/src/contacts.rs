@@ -1025,18 +1025,23 @@ mod tests {
         OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius)
     }
 
+    /// A 31-bit pseudo-random number generator (a linear congruential one's high bits).
+    fn random(seed: u64) -> impl FnMut() -> u64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state >> 33
+        }
+    }
+
     #[test]
     fn merging_runs_with_moved_contacts_gives_the_canonical_order() {
         // Runs of contacts in order (some empty, first and last among them), merged with
         // moved contacts that fall before, inside, between and after the runs, on one
         // thread and two: the same as sorting them all.
-        let mut state = 99u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            state >> 33
-        };
+        let mut next = random(99);
         for threads in [1, 2] {
             let mut exec = crate::parallel::Executor::new(threads).unwrap();
             exec.min_work = 0;
@@ -1081,13 +1086,7 @@ mod tests {
         let exec = crate::parallel::Executor::default();
         let config = Config::default();
         let ctx = StepContext::new(&config, 0.1, &exec, None);
-        let mut state = 12345u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            state >> 33
-        };
+        let mut next = random(12345);
         for (count, span) in [(5000u64, 40u64), (3000, 1 << 30), (1, 1), (2000, 3), (9, 2)] {
             let list: Vec<Contact> = (0..count)
                 .map(|k| {

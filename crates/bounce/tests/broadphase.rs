@@ -45,6 +45,34 @@ fn check(world: &mut World) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// The grid against the oracle for `particles` in a box of `size` (kind as [`boundary`]),
+/// now and after each of three steps. Positions are kept inside the box, and a disc the
+/// periodic box refuses (too large for the minimum image) is left out.
+fn check_stepping(
+    kind: u8,
+    size: f64,
+    scale: f64,
+    particles: Vec<Particle>,
+) -> Result<(), TestCaseError> {
+    let config = Config {
+        collision_radius_scale: scale,
+        boundary: boundary(kind, size),
+        ..Config::default()
+    };
+    let mut world = World::new(config).unwrap();
+    for p in particles {
+        let position = p.position.map(|v| v.min(size - 1e-9));
+        let _ = world.add_particle(Particle { position, ..p });
+    }
+    check(&mut world)?;
+    // And again after the state has moved on.
+    for _ in 0..3 {
+        world.step(0.5).unwrap();
+        check(&mut world)?;
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -54,20 +82,7 @@ proptest! {
         scale in 0.5..2.0f64,
         particles in discs(400, 60.0, 5.0),
     ) {
-        let size = 60.0;
-        let config = Config { collision_radius_scale: scale, boundary: boundary(kind, size), ..Config::default() };
-        let mut world = World::new(config).unwrap();
-        // The periodic box refuses discs too large for the minimum image: keep the others.
-        for p in particles {
-            let p = Particle { position: [p.position[0].min(size - 1e-9), p.position[1].min(size - 1e-9)], ..p };
-            let _ = world.add_particle(p);
-        }
-        check(&mut world)?;
-        // And again after the state has moved on.
-        for _ in 0..3 {
-            world.step(0.5).unwrap();
-            check(&mut world)?;
-        }
+        check_stepping(kind, 60.0, scale, particles)?;
     }
 
     #[test]
@@ -78,18 +93,7 @@ proptest! {
     ) {
         // Sparse discs of six bands in a box: fewer than one per cell of the largest, so
         // the levels share one grid, each pair cut at its own collision distance.
-        let size = 200.0;
-        let config = Config { collision_radius_scale: scale, boundary: boundary(kind, size), ..Config::default() };
-        let mut world = World::new(config).unwrap();
-        for p in particles {
-            let p = Particle { position: [p.position[0].min(size - 1e-9), p.position[1].min(size - 1e-9)], ..p };
-            world.add_particle(p).unwrap();
-        }
-        check(&mut world)?;
-        for _ in 0..3 {
-            world.step(0.5).unwrap();
-            check(&mut world)?;
-        }
+        check_stepping(kind, 200.0, scale, particles)?;
     }
 
     #[test]

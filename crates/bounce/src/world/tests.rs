@@ -247,30 +247,38 @@ fn check_bands_every_step(world: &mut World) -> (usize, usize, usize) {
     (near_only, both, one_level)
 }
 
+/// A walled and a periodic `side` × `side` box.
+fn boxes(side: f64) -> [Boundary; 2] {
+    [
+        Boundary::walls([0.0, 0.0], [side, side]),
+        Boundary::periodic([0.0, 0.0], [side, side]),
+    ]
+}
+
+/// `gas` in `boundary` under the default law, on two threads.
+fn gas_world(boundary: &Boundary, gas: &Gas) -> World {
+    let config = Config {
+        boundary: boundary.clone(),
+        ..Config::default()
+    };
+    let discs = scene::gas(gas, &config).unwrap();
+    world_of(config, discs, 2)
+}
+
 #[test]
 fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references() {
     // Between rebuilds, detection skips the far band while the displacements allow it; both
-    // cases occur.
-    for boundary in [
-        Boundary::walls([0.0, 0.0], [60.0, 60.0]),
-        Boundary::periodic([0.0, 0.0], [60.0, 60.0]),
-    ] {
-        // A dense fast gas: contacts are many, so some come from the far band.
-        let config = Config {
-            boundary: boundary.clone(),
-            ..Config::default()
-        };
-        let gas = Gas {
-            count: 2000,
-            radius: [0.3, 0.6],
-            region: Some(([2.0, 2.0], [58.0, 58.0])),
-            speeds: Speeds::Uniform(8.0),
-            drift: [0.0, 0.0],
-            seed: 5,
-        };
-        let discs = scene::gas(&gas, &config).unwrap();
-        let mut world = world_of(config, discs, 2);
-        let (near_only, both, _) = check_bands_every_step(&mut world);
+    // cases occur. A dense fast gas: contacts are many, so some come from the far band.
+    let gas = Gas {
+        count: 2000,
+        radius: [0.3, 0.6],
+        region: Some(([2.0, 2.0], [58.0, 58.0])),
+        speeds: Speeds::Uniform(8.0),
+        drift: [0.0, 0.0],
+        seed: 5,
+    };
+    for boundary in boxes(60.0) {
+        let (near_only, both, _) = check_bands_every_step(&mut gas_world(&boundary, &gas));
         assert!(near_only > 10 && both > 10, "{near_only} {both}");
     }
 }
@@ -280,25 +288,16 @@ fn merged_levels_find_every_contact() {
     // Radii 0.05 to 2.5 (six bands) about as sparse as the benchmark's polydisperse gas:
     // one grid holds them all, each pair cut and banded at its own collision distance, and
     // every step finds exactly the contacts of the oracle.
-    for boundary in [
-        Boundary::walls([0.0, 0.0], [100.0, 100.0]),
-        Boundary::periodic([0.0, 0.0], [100.0, 100.0]),
-    ] {
-        let config = Config {
-            boundary: boundary.clone(),
-            ..Config::default()
-        };
-        let gas = Gas {
-            count: 250,
-            radius: [0.05, 2.5],
-            region: Some(([3.0, 3.0], [97.0, 97.0])),
-            speeds: Speeds::Uniform(6.0),
-            drift: [0.0, 0.0],
-            seed: 9,
-        };
-        let discs = scene::gas(&gas, &config).unwrap();
-        let mut world = world_of(config, discs, 2);
-        let (near_only, both, one_level) = check_bands_every_step(&mut world);
+    let gas = Gas {
+        count: 250,
+        radius: [0.05, 2.5],
+        region: Some(([3.0, 3.0], [97.0, 97.0])),
+        speeds: Speeds::Uniform(6.0),
+        drift: [0.0, 0.0],
+        seed: 9,
+    };
+    for boundary in boxes(100.0) {
+        let (near_only, both, one_level) = check_bands_every_step(&mut gas_world(&boundary, &gas));
         assert!(near_only > 10 && both > 10, "{near_only} {both}");
         // Collisions with large discs speed small ones up, widening the skin and the cells
         // until the levels part; most steps still share one grid.
