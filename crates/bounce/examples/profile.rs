@@ -5,7 +5,8 @@
 //! little-endian `f64` triples (x, y, radius), such as the benchmark harness's settled pile
 //! (`target/bench/cache/pile-settled-100k.f64`), the discs start there at rest and the first
 //! 30 steps are not timed. Prints the mean, median and 99th percentile ms per step (rebuilds
-//! included) and the mean per stage.
+//! included) and the mean per stage. `MIN_WORK=N` in the environment sets the smallest work
+//! that runs on the pool (`World::set_parallel_min_work`).
 
 use bounce::scene::{self, Speeds};
 use bounce::{Particle, StepProfile, World};
@@ -47,6 +48,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .add_particles(discs)
         .map_err(|(i, e)| format!("{i}: {e}"))?;
     world.set_threads(threads)?;
+    if let Some(work) = std::env::var("MIN_WORK").ok().and_then(|v| v.parse().ok()) {
+        world.set_parallel_min_work(work);
+    }
     for _ in 0..warm_up {
         world.step(1.0 / 60.0)?;
     }
