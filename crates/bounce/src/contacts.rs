@@ -756,8 +756,9 @@ unsafe fn test_case(
 /// Writes into `list` the merge of the runs of `found` (each in canonical order, and so is
 /// their concatenation) with `moved` (in canonical order), in parallel: each run takes the
 /// moved contacts that fall before the next run's first, found by binary search, so the
-/// runs' places in `list` are known before any is written. (A serial merge was a sixth of
-/// a settled pile's detection.)
+/// runs' places in `list` are known before any is written. (Against one serial merge, the
+/// settled 100k pile's detection is 6–14 % faster on two threads, and its resolution too:
+/// each core then resolves contacts it wrote itself.)
 fn merge_sorted(
     found: &[Vec<Contact>],
     moved: &[Contact],
