@@ -2,10 +2,12 @@
 //!
 //! Each disc gets a *level* by its interaction diameter `d`: level `k` holds
 //! `d_min 2^k < d <= d_min 2^(k+1)` (level 0 includes `d_min`), and each non-empty level has
-//! its own uniform grid with cells at least its largest `d` plus the skin. In a box the grid
-//! covers the box (wrapping when periodic); in an open world it covers the bulk of the level's
-//! discs around their median, at most about one cell per disc, and outliers share the edge
-//! cells (clamping never moves two cell coordinates further apart).
+//! its own uniform grid with cells at least its largest `d` plus the skin, and levels whose
+//! grids would be sparse share one ([`merge`]). In a box the grid covers the box (wrapping
+//! when periodic; a distributed run's part of a walled box, only its discs' bounding box);
+//! in an open world it covers the bulk of the level's discs around their median, at most
+//! about one cell per disc, and outliers share the edge cells (clamping never moves two cell
+//! coordinates further apart).
 
 use std::cell::RefCell;
 
@@ -284,9 +286,39 @@ fn level_of_radius(law: &Law, r: f64, d_min: f64) -> usize {
     level_of(law.interaction_diameter(r), d_min)
 }
 
-/// The grid for one level.
+/// The region the grids cover: the box, or none in an open world (whose grids follow their
+/// discs). A part of a walled world (a distributed run's, told by its tally) holds only the
+/// discs of its region and a halo, so its grids cover the box cut down to their bounding
+/// box: with at most about one cell per disc over the whole box, a part of `R` had about
+/// `R` discs in each cell of its region.
+pub(super) fn extent([x, y]: [&[f64]; 2], ctx: &StepContext) -> Option<Extent> {
+    let whole = ctx.geometry.grid_extent()?;
+    if whole.wrap || ctx.tally.is_none() || x.is_empty() {
+        return Some(whole);
+    }
+    let mut cut = whole;
+    for (axis, v) in [x, y].into_iter().enumerate() {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        let (lo, hi) = (
+            lo.max(whole.origin[axis]),
+            hi.min(whole.origin[axis] + whole.width[axis]),
+        );
+        if lo <= hi {
+            cut.origin[axis] = lo;
+            cut.width[axis] = hi - lo;
+        }
+    }
+    Some(cut)
+}
+
+/// The grid for one level, over `extent` (see [`extent`]).
 pub(super) fn level_grid(
     positions: [&[f64]; 2],
+    extent: Option<Extent>,
     ctx: &StepContext,
     skin: f64,
     level: Level,
@@ -303,7 +335,7 @@ pub(super) fn level_grid(
     // About one cell per disc at most: fewer, fuller cells beat many empty ones (a
     // dense gas at cell side = diameter would leave most cells empty).
     let max_cells = n_level + 64;
-    let (origin, width, wrap) = match ctx.geometry.grid_extent() {
+    let (origin, width, wrap) = match extent {
         Some(Extent {
             origin,
             width,
@@ -500,6 +532,58 @@ mod tests {
         assert!(!levels[0].merged && levels[1].merged);
         assert_eq!((levels[1].index, levels[1].count), (1, count / 5));
         assert_eq!(&level_of[..3], &[1, 1, 0]);
+    }
+
+    #[test]
+    fn a_part_of_a_walled_world_grids_its_discs_bounding_box() {
+        // Discs in [10, 30] × [40, 45] of a 100 × 100 box: a part (with a tally) covers just
+        // that; the whole world, or a periodic part (it must wrap), the box.
+        let x = [10.0, 30.0, 20.0];
+        let y = [45.0, 40.0, 42.0];
+        let exec = crate::parallel::Executor::default();
+        let tally = crate::Tally::new([0.0, 50.0], [f64::NEG_INFINITY, f64::INFINITY], [None; 2]);
+        for (boundary, tally, expected) in [
+            (
+                crate::Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+                Some(tally),
+                ([10.0, 40.0], [20.0, 5.0]),
+            ),
+            (
+                crate::Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+                None,
+                ([0.0, 0.0], [100.0, 100.0]),
+            ),
+            (
+                crate::Boundary::periodic([0.0, 0.0], [100.0, 100.0]),
+                Some(tally),
+                ([0.0, 0.0], [100.0, 100.0]),
+            ),
+        ] {
+            let config = crate::Config {
+                boundary,
+                ..crate::Config::default()
+            };
+            let ctx = StepContext::new(&config, 0.1, &exec, tally);
+            let extent = extent([&x, &y], &ctx).unwrap();
+            assert_eq!(
+                (extent.origin, extent.width),
+                expected,
+                "{:?}",
+                config.boundary
+            );
+        }
+        // A disc pushed just outside a wall is clamped back into the box.
+        let config = crate::Config {
+            boundary: crate::Boundary::walls([0.0, 0.0], [100.0, 100.0]),
+            ..crate::Config::default()
+        };
+        let ctx = StepContext::new(&config, 0.1, &exec, Some(tally));
+        let clamped = extent([&[-1.0, 5.0], &[50.0, 101.0]], &ctx).unwrap();
+        assert_eq!((clamped.origin, clamped.width), ([0.0, 50.0], [5.0, 50.0]));
+        // An open world has none: its grids follow their discs.
+        let config = crate::Config::default();
+        let ctx = StepContext::new(&config, 0.1, &exec, Some(tally));
+        assert!(extent([&[1.0], &[2.0]], &ctx).is_none());
     }
 
     #[test]

@@ -281,7 +281,7 @@ impl Broadphase {
         self.uniform_radius = r_min == r_max;
         let skin = skin.width(&ctx.law, levels[0].max_radius, r_max);
         // Levels whose grids would all be about one disc per cell share one.
-        let extent = ctx.geometry.grid_extent();
+        let extent = levels::extent([x, y], ctx);
         levels::merge(&mut levels, &mut self.level_of, &ctx.law, skin, extent);
 
         // 2. One grid per level.
@@ -291,7 +291,7 @@ impl Broadphase {
         };
         let mut cell_offset = 0;
         for &level in &levels {
-            let grid = levels::level_grid([x, y], ctx, skin, level, cell_offset, &discs);
+            let grid = levels::level_grid([x, y], extent, ctx, skin, level, cell_offset, &discs);
             cell_offset += grid.n[0] * grid.n[1];
             self.grids.push(grid);
         }

@@ -122,7 +122,9 @@ mod tests {
             scratch: &scratch,
         };
         // Cells of 1 + 0 skin: a 4×4 grid.
-        let grid = super::super::levels::level_grid([&x, &y], &ctx, 0.0, levels[0], 0, &discs);
+        let extent = ctx.geometry.grid_extent();
+        let grid =
+            super::super::levels::level_grid([&x, &y], extent, &ctx, 0.0, levels[0], 0, &discs);
         assert_eq!(grid.n, [4, 4]);
         let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; 5]);
         let grids = [grid];
