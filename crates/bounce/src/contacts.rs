@@ -1078,8 +1078,7 @@ mod tests {
                         b: 0,
                     })
                     .collect();
-                let moved: Vec<Contact> = all.split_off(count as usize);
-                let mut moved = moved;
+                let mut moved = all.split_off(count as usize);
                 moved.sort_unstable_by_key(|c| (c.key, c.ids));
                 all.sort_unstable_by_key(|c| (c.key, c.ids));
                 // Cut the in-place contacts into runs, the first and last empty.

@@ -27,6 +27,12 @@ pub(super) const MAX_LEVELS: usize = 16;
 /// then the levels stay apart.
 const MERGED_OCCUPANCY: f64 = 1.5;
 
+/// The most cells a grid for `count` discs gets: about one per disc (fewer, fuller cells
+/// beat many empty ones: a dense gas at cell side = diameter would leave most cells empty).
+fn max_cells(count: usize) -> usize {
+    count + 64
+}
+
 /// A non-empty level: its index among the non-empty ones, its disc count, its largest radius.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Level {
@@ -246,7 +252,7 @@ pub(super) fn merge(
         let min_cell = law.interaction_diameter(max_radius) + skin;
         let cells = cells_along(extent.width[0], min_cell, extent.wrap) as f64
             * cells_along(extent.width[1], min_cell, extent.wrap) as f64;
-        count as f64 / cells.min((count + 64) as f64)
+        count as f64 / cells.min(max_cells(count) as f64)
     };
     // Coarsest first; `group_of[k]` counts from the coarsest too until the renumbering.
     let mut merged: Vec<Level> = Vec::with_capacity(levels.len());
@@ -332,9 +338,7 @@ pub(super) fn level_grid(
         merged,
     } = level;
     let min_cell = ctx.law.interaction_diameter(max_radius) + skin;
-    // About one cell per disc at most: fewer, fuller cells beat many empty ones (a
-    // dense gas at cell side = diameter would leave most cells empty).
-    let max_cells = n_level + 64;
+    let max_cells = max_cells(n_level);
     let (origin, width, wrap) = match extent {
         Some(Extent {
             origin,

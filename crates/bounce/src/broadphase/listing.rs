@@ -77,6 +77,7 @@ fn reserve(out: &mut Bands, n: usize) {
 
 /// The squared distances that sort a run's pairs into bands: the end of the near band, and
 /// the cut (the end of the far one).
+#[derive(Clone, Copy)]
 struct Cuts {
     near2: f64,
     cut2: f64,
@@ -157,7 +158,6 @@ impl Context<'_> {
         // Slices first: the loop then runs without bounds checks.
         let (xs, ys) = (&self.x[others.clone()], &self.y[others.clone()]);
         let rs = if PAIRWISE { &self.radius[others] } else { &[] };
-        let half_margin = 0.5 * self.margin;
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to its band's spare capacity and that band's length only
         // advances on a hit.
@@ -174,18 +174,9 @@ impl Context<'_> {
             };
             let d2 = dx * dx + dy * dy;
             let Cuts { near2, cut2 } = if PAIRWISE {
-                // As `cuts` does for the run's largest collision distance.
-                let reach = self.law.collision_distance(ra, rs[k]);
-                let (near, cut) = (reach + half_margin, reach + self.margin);
-                Cuts {
-                    near2: near * near,
-                    cut2: cut * cut,
-                }
+                self.cuts(self.law.collision_distance(ra, rs[k]))
             } else {
-                Cuts {
-                    near2: cuts.near2,
-                    cut2: cuts.cut2,
-                }
+                *cuts
             };
             let pair = [a as u32, (start + k) as u32];
             // SAFETY: each band has room for `xs.len()` more pairs (the caller's promise)
