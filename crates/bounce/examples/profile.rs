@@ -5,7 +5,8 @@
 //! little-endian `f64` triples (x, y, radius), such as the benchmark harness's settled pile
 //! (`target/bench/cache/pile-settled-100k.f64`), the discs start there at rest and the first
 //! 30 steps are not timed. Prints the mean, median and 99th percentile ms per step (rebuilds
-//! included) and the mean per stage. `MIN_WORK=N` in the environment sets the smallest work
+//! included) and the mean per stage, and the most discs past the allowance that a substep
+//! met alone instead of listing anew (strays). `MIN_WORK=N` in the environment sets the smallest work
 //! that runs on the pool (`World::set_parallel_min_work`).
 
 use bounce::scene::{self, Speeds};
@@ -58,6 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut totals = Vec::new();
     let mut pairs = 0;
     let mut rebuilds = 0;
+    let mut strays = 0;
     let mut rebuild_ms = Vec::new();
     for _ in 0..steps {
         let clock = std::time::Instant::now();
@@ -65,6 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         totals.push(clock.elapsed().as_secs_f64());
         let p = world.profile();
         rebuilds += p.rebuilds;
+        strays = strays.max(p.strays);
         if p.rebuilds > 0 {
             rebuild_ms.push(format!("{:.1}", p.bin * 1e3));
         }
@@ -79,7 +82,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     totals.sort_by(f64::total_cmp);
     let quantile = |q: f64| totals[((steps - 1) as f64 * q).round() as usize] * 1e3;
     println!(
-        "{kind} {} discs, {threads} threads, {} contacts per step, {rebuilds} rebuilds in {steps} steps, state {:016x}",
+        "{kind} {} discs, {threads} threads, {} contacts per step, {rebuilds} rebuilds in {steps} steps (at most {strays} strays kept), state {:016x}",
         world.len(),
         pairs / steps,
         world.state_hash()

@@ -27,7 +27,7 @@
 
 use std::ops::Range;
 
-use crate::broadphase::{BANDS, Broadphase, Pair, floor_to_isize, wrap_index};
+use crate::broadphase::{BANDS, Broadphase, Pair, Strays, floor_to_isize, wrap_index};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, OrderAxisFrame};
 use crate::law::Law;
@@ -270,10 +270,15 @@ impl Contacts {
         work: usize,
     ) -> f64 {
         let candidates = &broadphase.candidates;
-        self.found.resize_with(candidates.len(), Vec::new);
-        self.found.truncate(candidates.len());
+        // One list per candidate block, and the strays' last.
+        self.found.resize_with(candidates.len() + 1, Vec::new);
+        self.found.truncate(candidates.len() + 1);
         let uniform = broadphase.uniform_radius();
-        let found = ctx.exec.map_mut(work, &mut self.found, |block, found| {
+        let strays = broadphase.strays();
+        let (blocks, stray_found) = self.found.split_at_mut(candidates.len());
+        let stray_overlap = Self::stray_contacts(broadphase, p, grid, ctx, &mut stray_found[0]);
+        let stray_bounds = BlockBounds::of(&stray_found[0]);
+        let found = ctx.exec.map_mut(work, blocks, |block, found| {
             found.clear();
             let overlap = candidates[block][..bands]
                 .iter()
@@ -281,14 +286,12 @@ impl Contacts {
                     // SAFETY: every candidate indexes the current storage of `p` (checked by
                     // `find`: the list was made for exactly these discs).
                     let emit = |_, c| found.push(c);
-                    overlap.max(unsafe { test_case(pairs, p, grid, ctx, uniform, emit) })
+                    overlap.max(unsafe { test_case(pairs, p, grid, ctx, uniform, strays, emit) })
                 });
             // The blocks these contacts fall in, while they are still in cache.
             (overlap, BlockBounds::of(found))
         });
-        let bounds = found
-            .iter()
-            .fold(BlockBounds::EMPTY, |all, (_, b)| all.union(b));
+        let bounds = found.iter().fold(stray_bounds, |all, (_, b)| all.union(b));
         let min_image = ctx.geometry.min_image();
         match ctx.stack_order {
             None => self.gather_in_order(bounds, ctx, |c: &Contact| c.ids),
@@ -309,7 +312,25 @@ impl Contacts {
         found
             .iter()
             .map(|(overlap, _)| *overlap)
-            .fold(0.0, f64::max)
+            .fold(stray_overlap, f64::max)
+    }
+
+    /// The contacts with a stray in them (see `broadphase::strays`) into `out`; returns
+    /// their largest overlap.
+    fn stray_contacts(
+        broadphase: &Broadphase,
+        p: &Particles,
+        grid: &OrderGrid,
+        ctx: &StepContext,
+        out: &mut Vec<Contact>,
+    ) -> f64 {
+        out.clear();
+        let mut max_overlap = 0.0f64;
+        broadphase.stray_pairs(p, ctx, |i, j, overlap| {
+            max_overlap = max_overlap.max(overlap);
+            out.push(Contact::of(&p.id, [&p.x, &p.y], grid, i, j));
+        });
+        max_overlap
     }
 
     /// Puts the near band's candidates in canonical order, once per listing: each pair
@@ -385,6 +406,7 @@ impl Contacts {
     ) -> f64 {
         let presorted = &self.presorted;
         let uniform = broadphase.uniform_radius();
+        let strays = broadphase.strays();
         let chunks = presorted.chunks.len();
         self.found.resize_with(chunks, Vec::new);
         self.found.truncate(chunks);
@@ -416,7 +438,7 @@ impl Contacts {
                 };
                 // SAFETY: the presorted pairs are the current listing's (see `presort`), which
                 // indexes the current storage of `p` (checked by `find`).
-                unsafe { test_case(pairs, p, grid, ctx, uniform, emit) }
+                unsafe { test_case(pairs, p, grid, ctx, uniform, strays, emit) }
             });
         let mut max_overlap = overlaps.into_iter().fold(0.0, f64::max);
         far.clear();
@@ -427,9 +449,15 @@ impl Contacts {
                 let mut found = Vec::new();
                 // SAFETY: as above.
                 let overlap = unsafe {
-                    test_case(&candidates[block][1], p, grid, ctx, uniform, |_, c| {
-                        found.push(c)
-                    })
+                    test_case(
+                        &candidates[block][1],
+                        p,
+                        grid,
+                        ctx,
+                        uniform,
+                        strays,
+                        |_, c| found.push(c),
+                    )
                 };
                 (overlap, found)
             });
@@ -440,7 +468,16 @@ impl Contacts {
         }
         // In place, in canonical order: the found lists in chunk order. Out of place: a few,
         // sorted and merged in.
+        let mut from_strays = Vec::new();
+        max_overlap = max_overlap.max(Self::stray_contacts(
+            broadphase,
+            p,
+            grid,
+            ctx,
+            &mut from_strays,
+        ));
         let mut moved: Vec<Contact> = self.out_of_place.iter().flatten().copied().collect();
+        moved.extend_from_slice(&from_strays);
         moved.sort_unstable_by_key(|c| (c.key, c.ids));
         merge_sorted(&self.found, &moved, &mut self.list, ctx);
         max_overlap
@@ -741,17 +778,45 @@ fn ordered_bits(v: f64) -> u64 {
 
 /// [`test`] with the loop for this world's case: one per case, so the common ones (no
 /// minimum image; all radii equal, `uniform`, when the collision distance is one constant
-/// with the same bits) do no extra work.
+/// with the same bits; no strays) do no extra work. Pairs with a stray in them are left to
+/// [`Contacts::stray_contacts`].
 ///
 /// # Safety
 /// Every index in `candidates` is below `p.len()`.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 unsafe fn test_case(
     candidates: &[Pair],
     p: &Particles,
     grid: &OrderGrid,
     ctx: &StepContext,
     uniform: Option<f64>,
+    strays: &Strays,
+    emit: impl FnMut(usize, Contact),
+) -> f64 {
+    // SAFETY: the caller's promise.
+    unsafe {
+        if strays.is_empty() {
+            test_kind(candidates, p, grid, ctx, uniform, |_, _| false, emit)
+        } else {
+            let skip = |i: usize, j: usize| strays.contains(i) || strays.contains(j);
+            test_kind(candidates, p, grid, ctx, uniform, skip, emit)
+        }
+    }
+}
+
+/// [`test_case`] for one way of skipping pairs.
+///
+/// # Safety
+/// Every index in `candidates` is below `p.len()`.
+#[inline(always)]
+unsafe fn test_kind(
+    candidates: &[Pair],
+    p: &Particles,
+    grid: &OrderGrid,
+    ctx: &StepContext,
+    uniform: Option<f64>,
+    skip: impl Fn(usize, usize) -> bool,
     emit: impl FnMut(usize, Contact),
 ) -> f64 {
     let law = ctx.law;
@@ -765,10 +830,10 @@ unsafe fn test_case(
     // SAFETY: the caller's promise.
     unsafe {
         match (min_image.is_periodic(), uniform) {
-            (false, Some(d)) => test::<true>(candidates, p, grid, emit, plain, |_, _| d),
-            (true, Some(d)) => test::<true>(candidates, p, grid, emit, image, |_, _| d),
-            (false, None) => test::<false>(candidates, p, grid, emit, plain, pair),
-            (true, None) => test::<false>(candidates, p, grid, emit, image, pair),
+            (false, Some(d)) => test::<true>(candidates, p, grid, skip, emit, plain, |_, _| d),
+            (true, Some(d)) => test::<true>(candidates, p, grid, skip, emit, image, |_, _| d),
+            (false, None) => test::<false>(candidates, p, grid, skip, emit, plain, pair),
+            (true, None) => test::<false>(candidates, p, grid, skip, emit, image, pair),
         }
     }
 }
@@ -846,8 +911,10 @@ fn sqrt_limit(reach: f64) -> f64 {
 }
 
 /// Tests candidate pairs with the seed's rule, giving each contact (lower id first) to
-/// `emit` with the index of its candidate, in candidate order; returns the largest overlap. `diff` is `p1 - p2` (the minimum image in a periodic box) and `reach` the
-/// collision distance of a pair.
+/// `emit` with the index of its candidate, in candidate order; returns the largest overlap.
+/// `diff` is `p1 - p2` (the minimum image in a periodic box), `reach` the collision distance
+/// of a pair, and pairs `skip` accepts (checked only for those that pass the screen) are
+/// left out.
 ///
 /// # Safety
 /// Every index in `candidates` is below `p.len()`.
@@ -856,6 +923,7 @@ unsafe fn test<const UNIFORM: bool>(
     candidates: &[Pair],
     p: &Particles,
     grid: &OrderGrid,
+    skip: impl Fn(usize, usize) -> bool,
     mut emit: impl FnMut(usize, Contact),
     diff: impl Fn(f64, f64, f64, f64) -> [f64; 2],
     reach: impl Fn(usize, usize) -> f64,
@@ -903,6 +971,9 @@ unsafe fn test<const UNIFORM: bool>(
         for &k in &hits[..n] {
             let [i, j] = chunk[k as usize];
             let (i, j) = (i as usize, j as usize);
+            if skip(i, j) {
+                continue;
+            }
             let [dx, dy] = diff(x[i], y[i], x[j], y[j]);
             if UNIFORM {
                 // The screen was the exact test; the same bits give the same distance.

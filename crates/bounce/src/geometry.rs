@@ -101,6 +101,14 @@ impl Geometry {
         }
     }
 
+    /// The period along `axis`, in a periodic box.
+    pub(crate) fn period(&self, axis: usize) -> Option<f64> {
+        match *self {
+            Geometry::Periodic { size, .. } => Some(size[axis]),
+            _ => None,
+        }
+    }
+
     /// Whether positions wrap.
     pub(crate) fn is_periodic(&self) -> bool {
         matches!(self, Geometry::Periodic { .. })

@@ -10,7 +10,7 @@
 //! pass, not per disc, and walls only read a disc's radius and mass when it is within the
 //! largest radius of a wall.
 
-use crate::broadphase::Reference;
+use crate::broadphase::{Reference, max_strays};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, MinImage, reflect, wrap};
 use crate::parallel::{CHUNK, Executor};
@@ -25,6 +25,13 @@ pub(crate) struct Moved {
     /// The largest squared distance of a disc from its reference position (infinite when
     /// there is no reference).
     pub max_displacement2: f64,
+    /// The discs at or past the allowance from their reference positions (the broadphase's
+    /// strays), ascending; at most [`max_strays`] and one per chunk are kept.
+    pub strays: Vec<u32>,
+    /// Whether more discs strayed than `strays` holds.
+    pub too_many_strays: bool,
+    /// The largest squared displacement of the other discs.
+    pub max_kept2: f64,
     /// The longest distance a disc moved in this substep.
     pub max_stride: f64,
 }
@@ -48,6 +55,13 @@ pub(crate) fn integrate(
     max_radius: f64,
 ) -> Moved {
     let n = p.len();
+    // A disc this far from its reference is a stray (`covers` fails from here on).
+    let allowance = reference.allowance();
+    let stray2 = if allowance > 0.0 {
+        allowance * allowance
+    } else {
+        f64::INFINITY
+    };
     let reference = reference.positions(n);
     let law = ctx.law;
     let tally = ctx.tally;
@@ -73,6 +87,8 @@ pub(crate) fn integrate(
         h: ctx.h,
         min_image: ctx.geometry.min_image(),
         reference,
+        stray2,
+        max_strays: max_strays(n),
     };
     let chunks = &mut chunks[..];
     let exec = ctx.exec;
@@ -119,20 +135,28 @@ pub(crate) fn integrate(
             },
         ),
     };
+    let unknown = if reference.is_some() {
+        0.0
+    } else {
+        f64::INFINITY
+    };
     let mut moved = Moved {
-        max_displacement2: if reference.is_some() {
-            0.0
-        } else {
-            f64::INFINITY
-        },
+        max_displacement2: unknown,
+        max_kept2: unknown,
         ..Moved::default()
     };
     let mut max_speed2 = 0.0f64;
-    for (impulse, d2, v2) in &partial {
-        moved.impulse.merge(impulse);
-        moved.max_displacement2 = moved.max_displacement2.max(*d2);
-        max_speed2 = max_speed2.max(*v2);
+    for part in &partial {
+        moved.impulse.merge(&part.impulse);
+        moved.max_displacement2 = moved.max_displacement2.max(part.max_displacement2);
+        moved.max_kept2 = moved.max_kept2.max(part.max_kept2);
+        max_speed2 = max_speed2.max(part.max_speed2);
+        moved.too_many_strays |= part.strays.len() > pass.max_strays;
+        if !moved.too_many_strays {
+            moved.strays.extend_from_slice(&part.strays);
+        }
     }
+    moved.too_many_strays |= moved.strays.len() > pass.max_strays;
     moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
 }
@@ -151,23 +175,45 @@ fn record_hit(
     }
 }
 
+/// Notes stray `i`, while the chunk has at most `max` (one more says too many).
+#[inline(never)]
+fn stray(strays: &mut Vec<u32>, i: usize, max: usize) {
+    if strays.len() <= max {
+        strays.push(i as u32);
+    }
+}
+
 /// The constants of one pass.
 struct Pass<'r> {
     gravity: [f64; 2],
     h: f64,
     min_image: MinImage,
     reference: Option<(&'r [f32], &'r [f32])>,
+    /// The squared displacement that makes a disc a stray.
+    stray2: f64,
+    /// The most strays a chunk lists (one more tells there are too many).
+    max_strays: usize,
+}
+
+/// What one chunk of the pass measured.
+struct ChunkMoved {
+    impulse: WallSums,
+    max_displacement2: f64,
+    max_kept2: f64,
+    max_speed2: f64,
+    /// Storage indices of its strays, at most `max_strays + 1`.
+    strays: Vec<u32>,
 }
 
 impl Pass<'_> {
     /// The pass over the chunks, with the boundary and the reference check chosen once;
-    /// per chunk the wall impulse, the largest squared displacement and speed.
+    /// per chunk the wall impulse, the largest squared displacements and speed, the strays.
     fn run(
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
         boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Sync,
-    ) -> Vec<(WallSums, f64, f64)> {
+    ) -> Vec<ChunkMoved> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         match self.reference {
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
@@ -182,21 +228,23 @@ impl Pass<'_> {
         }
     }
 
-    /// One chunk: the wall impulse, the largest squared displacement and the largest squared
-    /// speed. `boundary` gets the disc's index,
-    /// `[x, y, vx, vy]` and its image counts.
+    /// One chunk: the wall impulse, the largest squared displacement (of all discs and of
+    /// those that do not stray), the largest squared speed and the strays. `boundary` gets
+    /// the disc's index, `[x, y, vx, vy]` and its image counts.
     #[inline(always)]
     fn chunk(
         &self,
         chunk: &mut Chunk,
         boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums),
         displacement2: impl Fn(usize, f64, f64) -> f64,
-    ) -> (WallSums, f64, f64) {
+    ) -> ChunkMoved {
         let [gx, gy] = self.gravity;
         let h = self.h;
         let mut impulse = WallSums::default();
         let mut max_displacement2 = 0.0f64;
+        let mut max_kept2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
+        let mut strays = Vec::new();
         let Chunk {
             base,
             x,
@@ -218,8 +266,21 @@ impl Pass<'_> {
             let [xi, yi, vxi, vyi] = state;
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
-            max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
+            let d2 = displacement2(*base + k, xi, yi);
+            max_displacement2 = max_displacement2.max(d2);
+            // Branch-free but for the rare stray (out of line, to keep the loop small).
+            let is_stray = d2 >= self.stray2;
+            max_kept2 = max_kept2.max(if is_stray { 0.0 } else { d2 });
+            if is_stray {
+                stray(&mut strays, *base + k, self.max_strays);
+            }
         }
-        (impulse, max_displacement2, max_speed2)
+        ChunkMoved {
+            impulse,
+            max_displacement2,
+            max_kept2,
+            max_speed2,
+            strays,
+        }
     }
 }

@@ -61,6 +61,9 @@ pub struct StepProfile {
     pub measure: f64,
     /// How many substeps rebuilt the candidate list.
     pub rebuilds: usize,
+    /// The most discs past the list's allowance in a substep that kept the list (met
+    /// alone: `broadphase::strays`).
+    pub strays: usize,
 }
 
 impl StepProfile {

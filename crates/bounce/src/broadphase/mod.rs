@@ -6,6 +6,7 @@
 //! | `sort.rs` | the stable counting sort into cell order, the blocks of cell rows |
 //! | `listing.rs` | candidate listing through the grids (the stencils, cross-level scans) |
 //! | `reference.rs` | reference positions and the skin: when the list must be rebuilt |
+//! | `strays.rs` | the few discs past the allowance, met alone while the list is kept |
 //! | `mod.rs` | the upkeep: keep, rebuild (reordering storage) or list in place |
 //!
 //! # Candidates with a skin
@@ -59,13 +60,16 @@ mod levels;
 mod listing;
 mod reference;
 mod sort;
+mod strays;
 
 use std::cell::RefCell;
 
 pub(crate) use levels::{floor_to_isize, wrap_index};
 pub(crate) use reference::Reference;
+pub(crate) use strays::{Strays, max_strays};
 
 use crate::context::StepContext;
+use crate::integrate::Moved;
 use crate::particles::{ParticleId, Particles, PermuteScratch, ordered};
 use levels::{Discs, LevelGrid};
 use reference::Skin;
@@ -104,6 +108,14 @@ pub(crate) struct Broadphase {
     pub(crate) reference: Reference,
     /// Whether `candidates` were listed for `reference` (not so after loading a world).
     listed: bool,
+    /// Whether storage is in the cell order of the grids (after a rebuild; not after a
+    /// listing in place, whose cells index a sorted copy: `order` maps them).
+    in_cell_order: bool,
+    /// The discs past the allowance at the last update, met alone (see `strays`).
+    strays: Strays,
+    /// Rebuild whenever a disc strays (a test compares the two ways).
+    #[cfg(test)]
+    pub(crate) no_strays: bool,
     /// The number of discs at the last listing.
     count: usize,
     /// Counts the listings: a list made for other storage indices has another number.
@@ -189,21 +201,29 @@ impl Broadphase {
     pub(crate) fn invalidate(&mut self) {
         self.reference = Reference::default();
         self.listed = false;
+        self.in_cell_order = false;
+        self.strays = Strays::default();
         self.max_radius = f64::INFINITY;
     }
 
-    /// Makes the candidates cover the current positions, given the largest squared
-    /// displacement since the reference (infinite when unknown) and the longest distance a
-    /// disc moved in the last substep (to size the skin). Returns whether the storage order
-    /// changed.
-    pub(crate) fn update(
-        &mut self,
-        p: &mut Particles,
-        ctx: &StepContext,
-        max_displacement2: f64,
-        stride: f64,
-    ) -> bool {
-        if self.reference.positions(p.len()).is_some() && self.reference.covers(max_displacement2) {
+    /// Makes the candidates cover the current positions, given what the last integration
+    /// measured: the discs past the allowance (strays), the largest squared displacement of
+    /// the others (infinite when unknown) and the longest distance a disc moved (to size the
+    /// skin). The list is kept while at most [`max_strays`] discs stray (see `strays`).
+    /// Returns whether the storage order changed.
+    pub(crate) fn update(&mut self, p: &mut Particles, ctx: &StepContext, moved: &Moved) -> bool {
+        self.strays.clear();
+        // An infinite position (overflow) always rebuilds, which finds it.
+        let few_strays = !moved.too_many_strays
+            && (moved.strays.is_empty()
+                || (moved.strays.len() <= max_strays(p.len())
+                    && moved.max_displacement2.is_finite()));
+        #[cfg(test)]
+        let few_strays = few_strays && (moved.strays.is_empty() || !self.no_strays);
+        let kept = self.reference.positions(p.len()).is_some()
+            && self.reference.covers(moved.max_kept2)
+            && few_strays;
+        if kept {
             if !self.listed {
                 // A loaded world: list candidates for its reference positions, keeping the
                 // storage order it was saved in.
@@ -213,9 +233,10 @@ impl Broadphase {
                 let margin = self.reference.skin + 2.0 * self.reference.slack;
                 self.list_in_place([&rx, &ry, &p.radius], ctx, margin);
             }
+            self.strays.set(&moved.strays, p.len());
             false
         } else {
-            self.rebuild(p, ctx, stride);
+            self.rebuild(p, ctx, moved.max_stride);
             true
         }
     }
@@ -234,6 +255,7 @@ impl Broadphase {
         self.list([&p.x, &p.y, &p.radius], ctx, skin);
         self.overflowed = !self.reference.record(&p.x, &p.y, skin, ctx.exec);
         self.listed = true;
+        self.in_cell_order = true;
         self.count = p.len();
     }
 
@@ -257,6 +279,7 @@ impl Broadphase {
             }
         }
         self.listed = true;
+        self.in_cell_order = false;
         self.count = x.len();
     }
 

@@ -354,7 +354,10 @@ impl World {
                 self.trail.mark(&self.particles);
             }
             let bp = &mut self.broadphase;
-            let moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
+            let mut moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
+            // A disc sent back across a segment returns to where it was, which for a stray of
+            // the last substep is past the allowance: with segments, no strays are kept.
+            moved.too_many_strays |= follow && !moved.strays.is_empty();
             sums.walls.merge(&moved.impulse);
             if follow {
                 // Discs that flew through a segment in this substep go back.
@@ -370,12 +373,7 @@ impl World {
             }
             profile.integrate += clock.lap();
 
-            let rebuilt = bp.update(
-                &mut self.particles,
-                &ctx,
-                moved.max_displacement2,
-                moved.max_stride,
-            );
+            let rebuilt = bp.update(&mut self.particles, &ctx, &moved);
             reordered |= rebuilt;
             self.travel
                 .note(moved.max_displacement2, moved.max_stride, rebuilt);
@@ -383,6 +381,7 @@ impl World {
                 self.trail.mark(&self.particles);
             }
             profile.rebuilds += rebuilt as usize;
+            profile.strays = profile.strays.max(bp.strays().len());
             profile.bin += clock.lap();
             if rebuilt && bp.overflowed() {
                 // An infinite position (NaN ones come with NaN velocities, caught below).
@@ -397,12 +396,9 @@ impl World {
                 // The first pass after integration knows how far discs are from their
                 // references; later ones (after pushes) and segment crossings test all.
                 let bands = if pass == 0 && !follow {
-                    // A rebuild took the current positions as the reference.
-                    bp.bands_within(if rebuilt {
-                        0.0
-                    } else {
-                        moved.max_displacement2
-                    })
+                    // A rebuild took the current positions as the reference; strays are
+                    // met alone.
+                    bp.bands_within(if rebuilt { 0.0 } else { moved.max_kept2 })
                 } else {
                     broadphase::BANDS
                 };

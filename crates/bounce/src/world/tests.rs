@@ -210,19 +210,22 @@ fn a_sink_can_empty_the_world_and_it_keeps_stepping() {
 }
 
 /// Steps `world` 200 times; after each step, the bands detection would test for the true
-/// largest displacement find exactly the pairs the brute-force oracle finds. Returns how
-/// many steps tested the near band alone, how many both, and how many had one grid level.
-fn check_bands_every_step(world: &mut World) -> (usize, usize, usize) {
-    let (mut near_only, mut both, mut one_level) = (0, 0, 0);
+/// largest displacement of the discs that do not stray find, with the strays' pairs,
+/// exactly the pairs the brute-force oracle finds. Returns how many steps tested the near
+/// band alone, how many both, how many had one grid level and how many had strays.
+fn check_bands_every_step(world: &mut World) -> (usize, usize, usize, usize) {
+    let (mut near_only, mut both, mut one_level, mut strayed) = (0, 0, 0, 0);
     for _ in 0..200 {
         world.step(1.0 / 60.0).unwrap();
         one_level += (world.broadphase.levels() == 1) as usize;
+        strayed += !world.broadphase.strays().is_empty() as usize;
         let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
         let bp = &world.broadphase;
         let p = &world.particles;
         let (rx, ry) = bp.reference.positions(p.len()).unwrap();
         let min_image = ctx.geometry.min_image();
         let displacement2 = (0..p.len())
+            .filter(|&i| !bp.strays().contains(i))
             .map(|i| {
                 let [dx, dy] = min_image.diff(p.x[i], p.y[i], rx[i] as f64, ry[i] as f64);
                 dx * dx + dy * dy
@@ -244,7 +247,7 @@ fn check_bands_every_step(world: &mut World) -> (usize, usize, usize) {
             world.config.boundary
         );
     }
-    (near_only, both, one_level)
+    (near_only, both, one_level, strayed)
 }
 
 /// A walled and a periodic `side` × `side` box.
@@ -278,8 +281,10 @@ fn the_near_band_holds_every_contact_while_discs_stay_close_to_their_references(
         seed: 5,
     };
     for boundary in boxes(60.0) {
-        let (near_only, both, _) = check_bands_every_step(&mut gas_world(&boundary, &gas));
+        let (near_only, both, _, strayed) = check_bands_every_step(&mut gas_world(&boundary, &gas));
         assert!(near_only > 10 && both > 10, "{near_only} {both}");
+        // The fastest few stray before the rest need a new list.
+        assert!(strayed > 40, "{strayed} steps with strays");
     }
 }
 
@@ -297,7 +302,8 @@ fn merged_levels_find_every_contact() {
         seed: 9,
     };
     for boundary in boxes(100.0) {
-        let (near_only, both, one_level) = check_bands_every_step(&mut gas_world(&boundary, &gas));
+        let (near_only, both, one_level, _) =
+            check_bands_every_step(&mut gas_world(&boundary, &gas));
         assert!(near_only > 10 && both > 10, "{near_only} {both}");
         // Collisions with large discs speed small ones up, widening the skin and the cells
         // until the levels part; most steps still share one grid.
@@ -383,5 +389,55 @@ fn presorted_candidates_give_the_bits_of_sorted_contacts() {
         let (presorted, sorted) = (pile(true), pile(false));
         assert_eq!(presorted.state_hash(), sorted.state_hash(), "{boundary:?}");
         assert_eq!(presorted.stats(), sorted.stats(), "{boundary:?}");
+    }
+}
+
+#[test]
+fn strays_change_nothing_but_how_often_lists_are_made() {
+    // The same worlds with strays met alone and with every stray forcing a new list: the
+    // same contacts every step (count, largest overlap, their virial and the walls' exact
+    // sums) and the same final state, bit for bit, with fewer rebuilds. Equal radii (the
+    // one-limit test) and a polydisperse mix; walls, periodic and open; 1 and 2 threads.
+    let gases = [([0.5, 0.5], 3.0), ([0.2, 0.9], 6.0)];
+    for boundary in [boxes(60.0).to_vec(), vec![Boundary::Open]].concat() {
+        for (radius, speed) in gases {
+            for threads in [1, 2] {
+                let gas = Gas {
+                    count: 1500,
+                    radius,
+                    region: Some(([2.0, 2.0], [58.0, 58.0])),
+                    speeds: Speeds::Uniform(speed),
+                    drift: [0.0, 0.0],
+                    seed: 11,
+                };
+                let mut worlds = [false, true].map(|no_strays| {
+                    let mut world = gas_world(&boundary, &gas);
+                    world.set_threads(threads).unwrap();
+                    world.broadphase.no_strays = no_strays;
+                    world
+                });
+                let (mut rebuilds, mut strayed) = ([0, 0], 0);
+                for _ in 0..150 {
+                    let [a, b] = worlds.each_mut().map(|w| *w.step(1.0 / 60.0).unwrap());
+                    let case = format!("{boundary:?} {radius:?} {threads}");
+                    assert_eq!(
+                        (a.pairs, a.max_overlap, a.virial, a.wall_impulse),
+                        (b.pairs, b.max_overlap, b.virial, b.wall_impulse),
+                        "{case}"
+                    );
+                    for (k, w) in worlds.iter().enumerate() {
+                        rebuilds[k] += w.profile().rebuilds;
+                    }
+                    strayed += (worlds[0].profile().strays > 0) as usize;
+                }
+                let case = format!("{boundary:?} {radius:?} {threads}");
+                assert_eq!(worlds[0].state_hash(), worlds[1].state_hash(), "{case}");
+                assert!(strayed > 30, "{case}: {strayed} steps with strays");
+                assert!(
+                    4 * rebuilds[0] < 3 * rebuilds[1],
+                    "{case}: {rebuilds:?} rebuilds"
+                );
+            }
+        }
     }
 }
