@@ -26,9 +26,10 @@ pub(crate) struct Moved {
     /// there is no reference).
     pub max_displacement2: f64,
     /// The discs at or past the allowance from their reference positions (the broadphase's
-    /// strays), ascending; at most [`max_strays`] and one per chunk are kept.
+    /// strays), ascending; complete unless `too_many_strays`.
     pub strays: Vec<u32>,
-    /// Whether more discs strayed than `strays` holds.
+    /// Whether more than [`max_strays`] discs strayed, or more than [`CHUNK_STRAYS`] in a
+    /// chunk.
     pub too_many_strays: bool,
     /// The largest squared displacement of the other discs.
     pub max_kept2: f64,
@@ -88,7 +89,6 @@ pub(crate) fn integrate(
         min_image: ctx.geometry.min_image(),
         reference,
         stray2,
-        max_strays: max_strays(n),
     };
     let chunks = &mut chunks[..];
     let exec = ctx.exec;
@@ -151,12 +151,12 @@ pub(crate) fn integrate(
         moved.max_displacement2 = moved.max_displacement2.max(part.max_displacement2);
         moved.max_kept2 = moved.max_kept2.max(part.max_kept2);
         max_speed2 = max_speed2.max(part.max_speed2);
-        moved.too_many_strays |= part.strays.len() > pass.max_strays;
-        if !moved.too_many_strays {
-            moved.strays.extend_from_slice(&part.strays);
+        match &part.strays {
+            Some(strays) => moved.strays.extend_from_slice(strays),
+            None => moved.too_many_strays = true,
         }
     }
-    moved.too_many_strays |= moved.strays.len() > pass.max_strays;
+    moved.too_many_strays |= moved.strays.len() > max_strays(n);
     moved.max_stride = max_speed2.sqrt() * ctx.h;
     moved
 }
@@ -175,13 +175,9 @@ fn record_hit(
     }
 }
 
-/// Notes stray `i`, while the chunk has at most `max` (one more says too many).
-#[inline(never)]
-fn stray(strays: &mut Vec<u32>, i: usize, max: usize) {
-    if strays.len() <= max {
-        strays.push(i as u32);
-    }
-}
+/// A chunk with more strays than this (of [`CHUNK`] discs) rebuilds the list: strays are
+/// the few, and a bunch of them in one place is better listed anew.
+const CHUNK_STRAYS: usize = 64;
 
 /// The constants of one pass.
 struct Pass<'r> {
@@ -191,8 +187,6 @@ struct Pass<'r> {
     reference: Option<(&'r [f32], &'r [f32])>,
     /// The squared displacement that makes a disc a stray.
     stray2: f64,
-    /// The most strays a chunk lists (one more tells there are too many).
-    max_strays: usize,
 }
 
 /// What one chunk of the pass measured.
@@ -201,8 +195,8 @@ struct ChunkMoved {
     max_displacement2: f64,
     max_kept2: f64,
     max_speed2: f64,
-    /// Storage indices of its strays, at most `max_strays + 1`.
-    strays: Vec<u32>,
+    /// Storage indices of its strays; none if more than [`CHUNK_STRAYS`].
+    strays: Option<Vec<u32>>,
 }
 
 impl Pass<'_> {
@@ -241,10 +235,7 @@ impl Pass<'_> {
         let [gx, gy] = self.gravity;
         let h = self.h;
         let mut impulse = WallSums::default();
-        let mut max_displacement2 = 0.0f64;
-        let mut max_kept2 = 0.0f64;
         let mut max_speed2 = 0.0f64;
-        let mut strays = Vec::new();
         let Chunk {
             base,
             x,
@@ -259,6 +250,7 @@ impl Pass<'_> {
             .zip(vx.iter_mut())
             .zip(vy.iter_mut())
             .zip(image.iter_mut());
+        let mut max_displacement2 = 0.0f64;
         for (k, ((((x, y), vx), vy), image)) in discs.enumerate() {
             let (vxi, vyi) = (*vx + gx * h, *vy + gy * h);
             let mut state = [*x + vxi * h, *y + vyi * h, vxi, vyi];
@@ -266,15 +258,35 @@ impl Pass<'_> {
             let [xi, yi, vxi, vyi] = state;
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
-            let d2 = displacement2(*base + k, xi, yi);
-            max_displacement2 = max_displacement2.max(d2);
-            // Branch-free but for the rare stray (out of line, to keep the loop small).
-            let is_stray = d2 >= self.stray2;
-            max_kept2 = max_kept2.max(if is_stray { 0.0 } else { d2 });
-            if is_stray {
-                stray(&mut strays, *base + k, self.max_strays);
-            }
+            max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
         }
+        let (max_kept2, strays) = if max_displacement2 >= self.stray2 {
+            // Some disc strayed: which ones, in a second pass over the chunk (still in
+            // cache), so the pass over memory stays as lean as without strays.
+            let mut strays = Vec::new();
+            let mut max_kept2 = 0.0f64;
+            for (k, (&x, &y)) in x.iter().zip(y.iter()).enumerate() {
+                let d2 = displacement2(*base + k, x, y);
+                if d2 >= self.stray2 {
+                    if strays.len() == CHUNK_STRAYS {
+                        // Too many: the list is made anew.
+                        return ChunkMoved {
+                            impulse,
+                            max_displacement2,
+                            max_kept2: max_displacement2,
+                            max_speed2,
+                            strays: None,
+                        };
+                    }
+                    strays.push((*base + k) as u32);
+                } else {
+                    max_kept2 = max_kept2.max(d2);
+                }
+            }
+            (max_kept2, Some(strays))
+        } else {
+            (max_displacement2, Some(Vec::new()))
+        };
         ChunkMoved {
             impulse,
             max_displacement2,

@@ -209,15 +209,26 @@ impl Broadphase {
     /// Makes the candidates cover the current positions, given what the last integration
     /// measured: the discs past the allowance (strays), the largest squared displacement of
     /// the others (infinite when unknown) and the longest distance a disc moved (to size the
-    /// skin). The list is kept while at most [`max_strays`] discs stray (see `strays`).
-    /// Returns whether the storage order changed.
-    pub(crate) fn update(&mut self, p: &mut Particles, ctx: &StepContext, moved: &Moved) -> bool {
+    /// skin), and how many contacts per disc a substep found in the last step. The list is
+    /// kept while at most [`max_strays`] discs stray (see `strays`). Returns whether the
+    /// storage order changed.
+    pub(crate) fn update(
+        &mut self,
+        p: &mut Particles,
+        ctx: &StepContext,
+        moved: &Moved,
+        contacts_per_disc: f64,
+    ) -> bool {
         self.strays.clear();
         // An infinite position (overflow) always rebuilds, which finds it.
         let few_strays = !moved.too_many_strays
             && (moved.strays.is_empty()
                 || (moved.strays.len() <= max_strays(p.len())
-                    && moved.max_displacement2.is_finite()));
+                    && moved.max_displacement2.is_finite()
+                    && strays::worth_keeping(
+                        contacts_per_disc,
+                        self.bands_within(moved.max_kept2),
+                    )));
         #[cfg(test)]
         let few_strays = few_strays && (moved.strays.is_empty() || !self.no_strays);
         let kept = self.reference.positions(p.len()).is_some()

@@ -4,7 +4,8 @@
 //! In a gas that is decided by its fastest few: at 1M discs the fastest is about 1.5 times
 //! as fast as the 2,000th, so the list is rebuilt half again as often as the bulk needs.
 //! Instead, a disc past the allowance becomes a *stray* (integration finds them, in storage
-//! order), and while there are at most [`max_strays`] of them the list is kept:
+//! order), and while there are at most [`max_strays`] of them the list is kept (where
+//! contacts are dense, only while the others need the near band alone: [`worth_keeping`]):
 //!
 //! - every other disc is within the allowance, so the listed pairs of two of them still
 //!   hold every such pair that can collide, and detection drops the listed pairs that
@@ -29,6 +30,19 @@ use crate::particles::Particles;
 pub(crate) fn max_strays(count: usize) -> usize {
     let root = 2.0 * (count as f64).sqrt();
     (root as usize).min(count / 16)
+}
+
+/// Below this many contacts per disc and substep, contacts are dilute (a gas: 0.02 to 0.2;
+/// a resting pile: 1.7).
+const DILUTE_CONTACTS: f64 = 0.5;
+
+/// Whether a list with strays is worth keeping, given the contacts per disc and substep of
+/// the last step and the bands the other discs need. Where contacts are dense (a pile) the
+/// far band is the next shell of neighbours, as large as the near one: testing it every
+/// substep soon costs more than a new list, so strays keep a list only while the others
+/// need the near band alone. In a gas the far band is a small share, and the list is kept.
+pub(super) fn worth_keeping(contacts_per_disc: f64, bands: usize) -> bool {
+    contacts_per_disc < DILUTE_CONTACTS || bands == 1
 }
 
 /// The discs past the allowance at the last integration, by storage index.

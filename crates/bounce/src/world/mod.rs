@@ -345,6 +345,11 @@ impl World {
             impulses: vec![[0.0; 2]; self.config.obstacles.len()],
             work: 0.0,
         };
+        // The last step's contacts per disc and substep (saved with the world, so a loaded
+        // one decides as the original does).
+        let last = &self.stats;
+        let contacts_per_disc =
+            last.pairs as f64 / (last.substeps.max(1) as f64 * self.particles.len().max(1) as f64);
         'substeps: for _ in 0..substeps {
             if has_obstacles {
                 obstacles::advance(&self.config, &mut self.obstacle_states, h);
@@ -373,7 +378,7 @@ impl World {
             }
             profile.integrate += clock.lap();
 
-            let rebuilt = bp.update(&mut self.particles, &ctx, &moved);
+            let rebuilt = bp.update(&mut self.particles, &ctx, &moved, contacts_per_disc);
             reordered |= rebuilt;
             self.travel
                 .note(moved.max_displacement2, moved.max_stride, rebuilt);
