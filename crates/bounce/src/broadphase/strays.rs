@@ -377,6 +377,15 @@ mod tests {
     }
 
     #[test]
+    fn dense_contacts_keep_a_list_with_strays_only_on_the_near_band() {
+        // A gas (0.02 contacts per disc and substep) keeps it with both bands; a pile (1.7)
+        // only while the near band holds every contact of the other discs.
+        assert!(worth_keeping(0.02, 2) && worth_keeping(0.02, 1));
+        assert!(worth_keeping(1.7, 1) && !worth_keeping(1.7, 2));
+        assert!(!worth_keeping(DILUTE_CONTACTS, 2));
+    }
+
+    #[test]
     fn strays_across_a_periodic_edge_meet() {
         // Two strays 0.6 apart across the edge at x = 0 = 40, and one 0.99 from the first
         // within the box; the sweep must find both pairs and nothing else.
