@@ -2,9 +2,11 @@
 //!
 //! `v += g h; x += v h` for each disc, and the boundary applied right after it moves, in one
 //! pass over memory. The same pass measures how far each disc now is from its broadphase
-//! reference position, so checking the candidate list costs no extra pass. It runs over
-//! fixed chunks; the wall impulses are summed exactly (`sum`), so they depend on neither the
-//! thread count nor the storage order.
+//! reference position, so checking the candidate list costs no extra pass; a chunk whose
+//! farthest disc is past the list's allowance is looked at again, still in cache, for the
+//! discs that are (the broadphase's strays). It runs over fixed chunks; the wall impulses
+//! are summed exactly (`sum`), so they depend on neither the thread count nor the storage
+//! order.
 //!
 //! The pass is compute-bound, so the boundary and the reference check are chosen once per
 //! pass, not per disc, and walls only read a disc's radius and mass when it is within the

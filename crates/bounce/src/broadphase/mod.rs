@@ -227,7 +227,7 @@ impl Broadphase {
                     && moved.max_displacement2.is_finite()
                     && strays::worth_keeping(
                         contacts_per_disc,
-                        self.bands_within(moved.max_kept2),
+                        self.reference.near_band_holds(moved.max_kept2),
                     )));
         #[cfg(test)]
         let few_strays = few_strays && (moved.strays.is_empty() || !self.no_strays);

@@ -74,6 +74,15 @@ impl Reference {
         allowance > 0.0 && max_displacement2 < allowance * allowance
     }
 
+    /// Whether discs within `sqrt(max_displacement2)` of their references can only collide
+    /// with pairs listed in the near band (within half the skin beyond their collision
+    /// distance), with a margin: decided from the saved reference alone, so a loaded world
+    /// decides as the original did (detection itself asks `Broadphase::bands_within`).
+    pub(crate) fn near_band_holds(&self, max_displacement2: f64) -> bool {
+        let closing = 2.0 * max_displacement2.sqrt() + self.slack;
+        closing * (1.0 + 1e-6) < 0.5 * self.skin * (1.0 - 1e-6)
+    }
+
     /// How far a disc may move from its reference position before the list is rebuilt.
     pub(crate) fn allowance(&self) -> f64 {
         ALLOWANCE_FRACTION * self.skin - self.slack
@@ -159,6 +168,20 @@ mod tests {
             .covers(0.0)
         );
         assert!(r.positions(1).is_some() && r.positions(2).is_none());
+    }
+
+    #[test]
+    fn the_near_band_holds_while_two_discs_close_in_by_under_half_the_skin() {
+        let r = Reference {
+            skin: 1.0,
+            slack: 0.01,
+            x: vec![0.0],
+            y: vec![0.0],
+        };
+        // Two discs 0.24 each from their references close in by 0.48, plus the slack.
+        assert!(r.near_band_holds(0.0) && r.near_band_holds(0.24 * 0.24));
+        assert!(!r.near_band_holds(0.245 * 0.245));
+        assert!(!r.near_band_holds(f64::INFINITY) && !r.near_band_holds(f64::NAN));
     }
 
     #[test]

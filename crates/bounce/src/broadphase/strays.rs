@@ -37,12 +37,13 @@ pub(crate) fn max_strays(count: usize) -> usize {
 const DILUTE_CONTACTS: f64 = 0.5;
 
 /// Whether a list with strays is worth keeping, given the contacts per disc and substep of
-/// the last step and the bands the other discs need. Where contacts are dense (a pile) the
-/// far band is the next shell of neighbours, as large as the near one: testing it every
-/// substep soon costs more than a new list, so strays keep a list only while the others
-/// need the near band alone. In a gas the far band is a small share, and the list is kept.
-pub(super) fn worth_keeping(contacts_per_disc: f64, bands: usize) -> bool {
-    contacts_per_disc < DILUTE_CONTACTS || bands == 1
+/// the last step and whether the other discs need the near band alone. Where contacts are
+/// dense (a pile) the far band is the next shell of neighbours, as large as the near one:
+/// testing it every substep soon costs more than a new list, so strays keep a list only
+/// while the others need the near band alone. In a gas the far band is a small share, and
+/// the list is kept. (Both from saved state, so a loaded world decides the same.)
+pub(super) fn worth_keeping(contacts_per_disc: f64, near_band_holds: bool) -> bool {
+    contacts_per_disc < DILUTE_CONTACTS || near_band_holds
 }
 
 /// The discs past the allowance at the last integration, by storage index.
@@ -380,9 +381,9 @@ mod tests {
     fn dense_contacts_keep_a_list_with_strays_only_on_the_near_band() {
         // A gas (0.02 contacts per disc and substep) keeps it with both bands; a pile (1.7)
         // only while the near band holds every contact of the other discs.
-        assert!(worth_keeping(0.02, 2) && worth_keeping(0.02, 1));
-        assert!(worth_keeping(1.7, 1) && !worth_keeping(1.7, 2));
-        assert!(!worth_keeping(DILUTE_CONTACTS, 2));
+        assert!(worth_keeping(0.02, false) && worth_keeping(0.02, true));
+        assert!(worth_keeping(1.7, true) && !worth_keeping(1.7, false));
+        assert!(!worth_keeping(DILUTE_CONTACTS, false));
     }
 
     #[test]
