@@ -113,6 +113,8 @@ pub(crate) struct Broadphase {
     in_cell_order: bool,
     /// The discs past the allowance at the last update, met alone (see `strays`).
     strays: Strays,
+    /// How much of the list's life the last update found used (1: it is listed anew).
+    worn: f64,
     /// Rebuild whenever a disc strays (a test compares the two ways).
     #[cfg(test)]
     pub(crate) no_strays: bool,
@@ -181,6 +183,13 @@ impl Broadphase {
             .unwrap_or(BANDS)
     }
 
+    /// How much of the list's life the last update found used: the kept discs' largest
+    /// displacement over the allowance, or the strays' count over one more than their cap,
+    /// whichever is larger (at 1 the next update lists anew).
+    pub(crate) fn worn(&self) -> f64 {
+        self.worn
+    }
+
     /// Whether the last rebuild met an infinite position.
     pub(crate) fn overflowed(&self) -> bool {
         self.overflowed
@@ -203,6 +212,7 @@ impl Broadphase {
         self.listed = false;
         self.in_cell_order = false;
         self.strays = Strays::default();
+        self.worn = 0.0;
         self.max_radius = f64::INFINITY;
     }
 
@@ -245,9 +255,18 @@ impl Broadphase {
                 self.list_in_place([&rx, &ry, &p.radius], ctx, margin);
             }
             self.strays.set(&moved.strays, p.len());
+            // How much of the list's life is used: the kept discs' share of the allowance,
+            // or the strays' share of their cap.
+            let allowance = self.reference.allowance();
+            let cap = max_strays(p.len()) + 1;
+            self.worn = f64::max(
+                moved.max_kept2.sqrt() / allowance,
+                moved.strays.len() as f64 / cap as f64,
+            );
             false
         } else {
             self.rebuild(p, ctx, moved.max_stride);
+            self.worn = 0.0;
             true
         }
     }

@@ -919,14 +919,15 @@ impl World {
         self.order_radius = radius;
     }
 
-    /// How much of the candidate list's allowance the discs have used (the farthest disc's
-    /// distance from where the list was made, over the distance that forces a new list): at
-    /// 1 the next substep lists again. `None` while no list is kept.
+    /// How much of the candidate list's life the discs have used (the farthest disc's
+    /// distance from where the list was made over the distance that forces a new list, not
+    /// counting the few met alone, the strays, or their count over their cap if that is
+    /// more): at 1 the next substep lists again. `None` while no list is kept.
     pub fn candidates_worn(&self) -> Option<f64> {
         let bp = &self.broadphase;
         let allowance = bp.reference.allowance();
         (bp.reference.positions(self.particles.len()).is_some() && allowance > 0.0)
-            .then(|| self.travel.since_listing / allowance)
+            .then(|| bp.worn())
     }
 
     /// Lists the candidates afresh at the next step, however little the discs moved: the
