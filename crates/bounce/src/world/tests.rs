@@ -346,6 +346,34 @@ fn a_far_pair_that_closes_in_is_found() {
     assert_eq!(contacts_at, Some(10));
 }
 
+/// 1,200 discs (radii 0.4–0.6) packed into the lower 50 of a 40-wide box under gravity
+/// (e = 0.7, 4 substeps), on 2 threads; in a periodic box on a floor segment across it.
+fn settling_pile(boundary: &Boundary) -> World {
+    let config = Config {
+        boundary: boundary.clone(),
+        gravity: [0.0, -9.81],
+        obstacles: match boundary {
+            Boundary::Periodic { .. } => {
+                vec![crate::Obstacle::segment([-1.0, -0.5], [41.0, -0.5])]
+            }
+            _ => Vec::new(),
+        },
+        coefficient_of_restitution: 0.7,
+        substeps: 4,
+        ..Config::default()
+    };
+    let gas = Gas {
+        count: 1200,
+        radius: [0.4, 0.6],
+        region: Some(([0.0, 0.0], [40.0, 50.0])),
+        speeds: Speeds::Uniform(1.0),
+        drift: [0.0, 0.0],
+        seed: 8,
+    };
+    let discs = scene::packed_gas(&gas, &config, &[]).unwrap();
+    world_of(config, discs, 2)
+}
+
 #[test]
 fn presorted_candidates_give_the_bits_of_sorted_contacts() {
     // A pile (contacts dense) keeps its near candidates in canonical order instead of
@@ -356,29 +384,7 @@ fn presorted_candidates_give_the_bits_of_sorted_contacts() {
         Boundary::periodic([0.0, -1.0], [40.0, 80.0]),
     ] {
         let pile = |presort: bool| {
-            let config = Config {
-                boundary: boundary.clone(),
-                gravity: [0.0, -9.81],
-                obstacles: match boundary {
-                    Boundary::Periodic { .. } => {
-                        vec![crate::Obstacle::segment([-1.0, -0.5], [41.0, -0.5])]
-                    }
-                    _ => Vec::new(),
-                },
-                coefficient_of_restitution: 0.7,
-                substeps: 4,
-                ..Config::default()
-            };
-            let gas = Gas {
-                count: 1200,
-                radius: [0.4, 0.6],
-                region: Some(([0.0, 0.0], [40.0, 50.0])),
-                speeds: Speeds::Uniform(1.0),
-                drift: [0.0, 0.0],
-                seed: 8,
-            };
-            let discs = scene::packed_gas(&gas, &config, &[]).unwrap();
-            let mut world = world_of(config, discs, 2);
+            let mut world = settling_pile(&boundary);
             world.contacts.never_presort = !presort;
             for _ in 0..150 {
                 world.step(1.0 / 60.0).unwrap();
@@ -453,23 +459,7 @@ fn a_settling_pile_gives_the_same_bits_with_strays() {
     // Contacts dense: strays keep a list only while the other discs need the near band
     // alone. Either way the same state, bit for bit, as rebuilding at every stray.
     let pile = |no_strays: bool| {
-        let config = Config {
-            boundary: Boundary::walls([0.0, 0.0], [40.0, 80.0]),
-            gravity: [0.0, -9.81],
-            coefficient_of_restitution: 0.7,
-            substeps: 4,
-            ..Config::default()
-        };
-        let gas = Gas {
-            count: 1200,
-            radius: [0.4, 0.6],
-            region: Some(([0.0, 0.0], [40.0, 50.0])),
-            speeds: Speeds::Uniform(1.0),
-            drift: [0.0, 0.0],
-            seed: 8,
-        };
-        let discs = scene::packed_gas(&gas, &config, &[]).unwrap();
-        let mut world = world_of(config, discs, 2);
+        let mut world = settling_pile(&Boundary::walls([0.0, 0.0], [40.0, 80.0]));
         world.broadphase.no_strays = no_strays;
         let mut strayed = 0;
         for _ in 0..200 {
