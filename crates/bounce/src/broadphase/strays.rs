@@ -24,9 +24,9 @@ use super::levels::LevelGrid;
 use crate::context::StepContext;
 use crate::particles::Particles;
 
-/// At most this many strays keep a list: about twice the square root of the discs (so the
-/// sweep of strays against strays costs at most about as many tests as there are discs,
-/// however they bunch), and never more than a sixteenth of them.
+/// At most this many strays keep a list: twice the square root of the discs (so the sweep of
+/// strays against strays costs at most twice as many tests as there are discs, however they
+/// bunch: (2√N)²/2), and never more than a sixteenth of them.
 pub(crate) fn max_strays(count: usize) -> usize {
     let root = 2.0 * (count as f64).sqrt();
     (root as usize).min(count / 16)
