@@ -276,6 +276,7 @@ impl Contacts {
         let uniform = broadphase.uniform_radius();
         let strays = broadphase.strays();
         let (blocks, stray_found) = self.found.split_at_mut(candidates.len());
+        stray_found[0].clear();
         let stray_overlap = Self::stray_contacts(broadphase, p, grid, ctx, &mut stray_found[0]);
         let stray_bounds = BlockBounds::of(&stray_found[0]);
         let found = ctx.exec.map_mut(work, blocks, |block, found| {
@@ -315,8 +316,8 @@ impl Contacts {
             .fold(stray_overlap, f64::max)
     }
 
-    /// The contacts with a stray in them (see `broadphase::strays`) into `out`; returns
-    /// their largest overlap.
+    /// Appends the contacts with a stray in them (see `broadphase::strays`) to `out`;
+    /// returns their largest overlap.
     fn stray_contacts(
         broadphase: &Broadphase,
         p: &Particles,
@@ -324,7 +325,6 @@ impl Contacts {
         ctx: &StepContext,
         out: &mut Vec<Contact>,
     ) -> f64 {
-        out.clear();
         let mut max_overlap = 0.0f64;
         broadphase.stray_pairs(p, ctx, |i, j, overlap| {
             max_overlap = max_overlap.max(overlap);
@@ -468,16 +468,9 @@ impl Contacts {
         }
         // In place, in canonical order: the found lists in chunk order. Out of place: a few,
         // sorted and merged in.
-        let mut from_strays = Vec::new();
-        max_overlap = max_overlap.max(Self::stray_contacts(
-            broadphase,
-            p,
-            grid,
-            ctx,
-            &mut from_strays,
-        ));
         let mut moved: Vec<Contact> = self.out_of_place.iter().flatten().copied().collect();
-        moved.extend_from_slice(&from_strays);
+        let stray_overlap = Self::stray_contacts(broadphase, p, grid, ctx, &mut moved);
+        max_overlap = max_overlap.max(stray_overlap);
         moved.sort_unstable_by_key(|c| (c.key, c.ids));
         merge_sorted(&self.found, &moved, &mut self.list, ctx);
         max_overlap

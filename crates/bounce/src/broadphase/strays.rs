@@ -138,7 +138,7 @@ impl Broadphase {
                     [0, 1].map(|axis| cells_within(grid, [p.x[s], p.y[s]][axis], reach, axis));
                 for cy in ys.clone() {
                     for cx in xs.clone() {
-                        let cell = grid.cell_index(cx.0, cy.0);
+                        let cell = grid.cell_index(cx, cy);
                         let start = self.cell_start[cell] as usize;
                         let end = self.cell_start[cell + 1] as usize;
                         for k in start..end {
@@ -213,10 +213,6 @@ fn every_pair(sorted: &[(f64, u32)], test: &mut impl FnMut(usize, usize)) {
     }
 }
 
-/// A grid coordinate, wrapped into the grid.
-#[derive(Clone, Copy)]
-struct Cell(usize);
-
 /// The cells along `axis` that hold every disc binned within `reach` of `v`: the clamped
 /// range of its bounds (the cell of a coordinate is monotone in it), or in a periodic grid
 /// the cells around `v`'s with one to spare on each side for rounding across the edge.
@@ -255,13 +251,13 @@ struct CellRange {
 }
 
 impl Iterator for CellRange {
-    type Item = Cell;
+    type Item = usize;
 
-    fn next(&mut self) -> Option<Cell> {
+    fn next(&mut self) -> Option<usize> {
         (self.start < self.end).then(|| {
             let c = super::levels::wrap_index(self.start, self.n as isize);
             self.start += 1;
-            Cell(c as usize)
+            c as usize
         })
     }
 }
