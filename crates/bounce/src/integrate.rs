@@ -105,7 +105,7 @@ pub(crate) fn integrate(
             exec,
             chunks,
             #[inline(always)]
-            |_, [x, y, _, _], image, _| {
+            move |_, [x, y, _, _], image, _| {
                 image[0] += wrap(x, min[0], size[0]);
                 image[1] += wrap(y, min[1], size[1]);
             },
@@ -118,7 +118,7 @@ pub(crate) fn integrate(
             exec,
             chunks,
             #[inline(always)]
-            |i, [x, y, vx, vy], _, impulse| {
+            move |i, [x, y, vx, vy], _, impulse| {
                 // Radii are at most `max_radius`, so a disc farther from every wall touches
                 // none (rounding is monotone, so this never skips a disc `reflect` would move).
                 let near = *x - max_radius < min[0]
@@ -208,13 +208,14 @@ impl Pass<'_> {
         &self,
         exec: &Executor,
         chunks: &mut [Chunk],
-        boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Sync,
+        boundary: impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Sync + Clone,
     ) -> Vec<ChunkMoved> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
+        let min_image = self.min_image;
         match self.reference {
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
-                self.chunk(chunk, &boundary, |i, x, y| {
-                    let [dx, dy] = self.min_image.diff(x, y, rx[i] as f64, ry[i] as f64);
+                self.chunk(chunk, &boundary, move |i, x, y| {
+                    let [dx, dy] = min_image.diff(x, y, rx[i] as f64, ry[i] as f64);
                     dx * dx + dy * dy
                 })
             }),
@@ -231,9 +232,13 @@ impl Pass<'_> {
     fn chunk(
         &self,
         chunk: &mut Chunk,
-        boundary: &impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums),
+        boundary: &(impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Clone),
         displacement2: impl Fn(usize, f64, f64) -> f64,
     ) -> ChunkMoved {
+        // A copy of the boundary's constants in this frame (the closures capture by value):
+        // the loop then keeps them in registers instead of loading them through a
+        // reference for every disc, which it cannot prove the disc stores leave alone.
+        let boundary = boundary.clone();
         let [gx, gy] = self.gravity;
         let h = self.h;
         let mut impulse = WallSums::default();
