@@ -74,7 +74,7 @@ pub(super) struct LevelGrid {
 
 impl LevelGrid {
     /// The (clamped) cell coordinate of `v` along `axis`.
-    #[inline]
+    #[inline(always)]
     pub(super) fn coord(&self, v: f64, axis: usize) -> usize {
         let c = floor_to_isize((v - self.origin[axis]) * self.inv_cell[axis]);
         // A periodic coordinate wraps, since an overlap push can leave a centre a little
@@ -99,7 +99,7 @@ impl LevelGrid {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub(super) fn cell_index(&self, cx: usize, cy: usize) -> usize {
         self.cell_offset + cy * self.n[0] + cx
     }

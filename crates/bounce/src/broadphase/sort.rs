@@ -42,15 +42,19 @@ pub(super) fn counting_sort(
         let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
         exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
             let base = *c * CHUNK;
-            for (k, key) in keys.iter_mut().enumerate() {
-                let i = base + k;
-                let g = if level_of.is_empty() {
-                    &grids[0]
-                } else {
-                    &grids[level_of[i] as usize]
-                };
-                let (cx, cy) = (g.coord(x[i], 0), g.coord(y[i], 1));
-                *key = g.cell_index(cx, cy) as u32;
+            let (x, y) = (&x[base..base + keys.len()], &y[base..base + keys.len()]);
+            if level_of.is_empty() {
+                // One grid: a copy of it in this frame keeps its scalars in registers.
+                let g = grids[0].clone();
+                for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
+                    *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
+                }
+            } else {
+                let level_of = &level_of[base..base + keys.len()];
+                for (((key, &x), &y), &level) in keys.iter_mut().zip(x).zip(y).zip(level_of) {
+                    let g = &grids[level as usize];
+                    *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
+                }
             }
         });
     }
