@@ -114,28 +114,39 @@ pub(crate) fn integrate(
             min,
             max,
             restitution: e,
-        } => pass.run(
-            exec,
-            chunks,
-            #[inline(always)]
-            move |i, [x, y, vx, vy], _, impulse| {
-                // Radii are at most `max_radius`, so a disc farther from every wall touches
-                // none (rounding is monotone, so this never skips a disc `reflect` would move).
-                let near = *x - max_radius < min[0]
-                    || *x + max_radius > max[0]
-                    || *y - max_radius < min[1]
-                    || *y + max_radius > max[1];
-                if near {
-                    let r = radius[i];
-                    let m = law.mass(r, mass[i]);
-                    let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
-                    let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
-                    if left != 0.0 || right != 0.0 || bottom != 0.0 || top != 0.0 {
-                        record_hit(impulse, [left, right, bottom, top], [*x, *y], tally);
+        } => {
+            // Radii are at most `max_radius`, so a disc whose centre is inside these bounds
+            // touches no wall. They are widened by a billionth of the box's scale, far more
+            // than the rounding of `reflect`'s `x - r < lo`, so they never skip a disc it
+            // would move (an infinite `max_radius` sends every disc to it).
+            let scale = [min, max]
+                .iter()
+                .flatten()
+                .fold(max_radius, |s, v| s.max(v.abs()));
+            let slack = 1e-9 * scale;
+            let inner_min = [0, 1].map(|a| min[a] + max_radius + slack);
+            let inner_max = [0, 1].map(|a| max[a] - max_radius - slack);
+            pass.run(
+                exec,
+                chunks,
+                #[inline(always)]
+                move |i, [x, y, vx, vy], _, impulse| {
+                    let near = *x < inner_min[0]
+                        || *x > inner_max[0]
+                        || *y < inner_min[1]
+                        || *y > inner_max[1];
+                    if near {
+                        let r = radius[i];
+                        let m = law.mass(r, mass[i]);
+                        let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
+                        let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
+                        if left != 0.0 || right != 0.0 || bottom != 0.0 || top != 0.0 {
+                            record_hit(impulse, [left, right, bottom, top], [*x, *y], tally);
+                        }
                     }
-                }
-            },
-        ),
+                },
+            )
+        }
     };
     let unknown = if reference.is_some() {
         0.0
@@ -201,7 +212,7 @@ struct ChunkMoved {
     strays: Option<Vec<u32>>,
 }
 
-impl Pass<'_> {
+impl<'r> Pass<'r> {
     /// The pass over the chunks, with the boundary and the reference check chosen once;
     /// per chunk the wall impulse, the largest squared displacements and speed, the strays.
     fn run(
@@ -212,10 +223,20 @@ impl Pass<'_> {
     ) -> Vec<ChunkMoved> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         let min_image = self.min_image;
+        // The chunk's reference positions, indexed by the disc's place in the chunk.
+        let chunk_of = |rx: &'r [f32], chunk: &Chunk| &rx[chunk.base..chunk.base + chunk.x.len()];
         match self.reference {
+            Some((rx, ry)) if min_image.is_periodic() => exec.map_mut(n, chunks, |_, chunk| {
+                let (rx, ry) = (chunk_of(rx, chunk), chunk_of(ry, chunk));
+                self.chunk(chunk, &boundary, move |k, x, y| {
+                    let [dx, dy] = min_image.diff(x, y, rx[k] as f64, ry[k] as f64);
+                    dx * dx + dy * dy
+                })
+            }),
             Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
-                self.chunk(chunk, &boundary, move |i, x, y| {
-                    let [dx, dy] = min_image.diff(x, y, rx[i] as f64, ry[i] as f64);
+                let (rx, ry) = (chunk_of(rx, chunk), chunk_of(ry, chunk));
+                self.chunk(chunk, &boundary, move |k, x, y| {
+                    let [dx, dy] = [x - rx[k] as f64, y - ry[k] as f64];
                     dx * dx + dy * dy
                 })
             }),
@@ -265,7 +286,7 @@ impl Pass<'_> {
             let [xi, yi, vxi, vyi] = state;
             (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
-            max_displacement2 = max_displacement2.max(displacement2(*base + k, xi, yi));
+            max_displacement2 = max_displacement2.max(displacement2(k, xi, yi));
         }
         let (max_kept2, strays) = if max_displacement2 >= self.stray2 {
             // Some disc strayed: which ones, in a second pass over the chunk (still in
@@ -273,7 +294,7 @@ impl Pass<'_> {
             let mut strays = Vec::new();
             let mut max_kept2 = 0.0f64;
             for (k, (&x, &y)) in x.iter().zip(y.iter()).enumerate() {
-                let d2 = displacement2(*base + k, x, y);
+                let d2 = displacement2(k, x, y);
                 if d2 >= self.stray2 {
                     if strays.len() == CHUNK_STRAYS {
                         // Too many: the list is made anew.
@@ -301,5 +322,73 @@ impl Pass<'_> {
             max_speed2,
             strays,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::particles::{Particle, ParticleId};
+    use crate::{Boundary, Config};
+
+    #[test]
+    fn the_walls_prefilter_never_skips_a_disc_a_wall_would_move() {
+        // Discs a few units in the last place either side of touching each wall (centre at
+        // exactly its radius, the largest radius or a smaller one, from the wall), moving
+        // into it, along it and away, in a box far from the origin: integrating with the
+        // radius bound (the prefilter) gives the same bits as sending every disc to the
+        // walls (an infinite bound).
+        let (min, max) = ([1e6 - 3.0, -7.25], [1e6 + 40.0, 12.5]);
+        let config = Config {
+            boundary: Boundary::walls(min, max),
+            coefficient_of_restitution: 0.9,
+            ..Config::default()
+        };
+        let exec = Executor::default();
+        let h = 1e-3;
+        let ctx = StepContext::new(&config, h, &exec, None);
+        let (r_max, radii) = (0.75, [0.75, 0.5]);
+        let mut p = Particles::default();
+        let mut next = 0;
+        let mut add = |p: &mut Particles, x: f64, y: f64, v: [f64; 2], r: f64| {
+            p.push(ParticleId(next), &Particle::new([x, y], v, r));
+            next += 1;
+        };
+        let nudge = |v: f64, ulps: i64| {
+            let mut v = v;
+            for _ in 0..ulps.abs() {
+                v = if ulps > 0 { v.next_up() } else { v.next_down() };
+            }
+            v
+        };
+        let mid = [0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1])];
+        for r in radii {
+            for ulps in -3..=3 {
+                for v in [-2.0, 0.0, 2.0] {
+                    // The disc ends the substep `ulps` from touching each wall.
+                    let back = v * h;
+                    add(&mut p, nudge(min[0] + r, ulps) - back, mid[1], [v, 0.3], r);
+                    add(&mut p, nudge(max[0] - r, ulps) - back, mid[1], [v, -0.3], r);
+                    add(&mut p, mid[0], nudge(min[1] + r, ulps) - back, [0.3, v], r);
+                    add(&mut p, mid[0], nudge(max[1] - r, ulps) - back, [-0.3, v], r);
+                }
+            }
+        }
+        let reference = Reference::default();
+        let mut filtered = p.clone();
+        let moved = integrate(&mut filtered, &ctx, &reference, r_max);
+        let mut every = p.clone();
+        let all = integrate(&mut every, &ctx, &reference, f64::INFINITY);
+        let bits = |p: &Particles| -> Vec<u64> {
+            [&p.x, &p.y, &p.vx, &p.vy]
+                .iter()
+                .flat_map(|v| v.iter().map(|v| v.to_bits()))
+                .collect()
+        };
+        assert_eq!(bits(&filtered), bits(&every));
+        assert_eq!(moved.impulse, all.impulse);
+        // And the walls did act: some discs were put back and bounced.
+        assert_ne!(bits(&filtered), bits(&p));
+        assert_ne!(all.impulse, WallSums::default());
     }
 }
