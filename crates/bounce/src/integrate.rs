@@ -9,8 +9,9 @@
 //! order.
 //!
 //! The pass is compute-bound, so the boundary and the reference check are chosen once per
-//! pass, not per disc, and walls only read a disc's radius and mass when it is within the
-//! largest radius of a wall.
+//! pass, not per disc, their constants are copied into each chunk's frame (kept in
+//! registers), and walls only read a disc's radius and mass when it is outside inner bounds
+//! a largest radius (and a little more) from each wall.
 
 use crate::broadphase::{Reference, max_strays};
 use crate::context::StepContext;
@@ -248,7 +249,8 @@ impl<'r> Pass<'r> {
 
     /// One chunk: the wall impulse, the largest squared displacement (of all discs and of
     /// those that do not stray), the largest squared speed and the strays. `boundary` gets
-    /// the disc's index, `[x, y, vx, vy]` and its image counts.
+    /// the disc's index, `[x, y, vx, vy]` and its image counts; `displacement2` the disc's
+    /// place in the chunk and its new position.
     #[inline(always)]
     fn chunk(
         &self,
