@@ -224,27 +224,42 @@ impl<'r> Pass<'r> {
     ) -> Vec<ChunkMoved> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         let min_image = self.min_image;
-        // The chunk's reference positions, indexed by the disc's place in the chunk.
-        let chunk_of = |rx: &'r [f32], chunk: &Chunk| &rx[chunk.base..chunk.base + chunk.x.len()];
         match self.reference {
-            Some((rx, ry)) if min_image.is_periodic() => exec.map_mut(n, chunks, |_, chunk| {
-                let (rx, ry) = (chunk_of(rx, chunk), chunk_of(ry, chunk));
-                self.chunk(chunk, &boundary, move |k, x, y| {
-                    let [dx, dy] = min_image.diff(x, y, rx[k] as f64, ry[k] as f64);
-                    dx * dx + dy * dy
-                })
-            }),
-            Some((rx, ry)) => exec.map_mut(n, chunks, |_, chunk| {
-                let (rx, ry) = (chunk_of(rx, chunk), chunk_of(ry, chunk));
-                self.chunk(chunk, &boundary, move |k, x, y| {
-                    let [dx, dy] = [x - rx[k] as f64, y - ry[k] as f64];
-                    dx * dx + dy * dy
-                })
-            }),
+            Some(reference) if min_image.is_periodic() => {
+                let image = move |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
+                self.run_displaced(exec, chunks, &boundary, reference, image)
+            }
+            Some(reference) => {
+                let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
+                self.run_displaced(exec, chunks, &boundary, reference, plain)
+            }
             None => exec.map_mut(n, chunks, |_, chunk| {
                 self.chunk(chunk, &boundary, |_, _, _| 0.0)
             }),
         }
+    }
+
+    /// [`Pass::run`] with reference positions `(rx, ry)`: each chunk measures displacements
+    /// from its slice of them, `diff` giving position minus reference (the minimum image in
+    /// a periodic box, the plain difference else: chosen once per pass).
+    fn run_displaced(
+        &self,
+        exec: &Executor,
+        chunks: &mut [Chunk],
+        boundary: &(impl Fn(usize, &mut [f64; 4], &mut [i32; 2], &mut WallSums) + Sync + Clone),
+        (rx, ry): (&'r [f32], &'r [f32]),
+        diff: impl Fn(f64, f64, f64, f64) -> [f64; 2] + Sync + Copy,
+    ) -> Vec<ChunkMoved> {
+        let n = chunks.iter().map(|c| c.x.len()).sum();
+        exec.map_mut(n, chunks, |_, chunk| {
+            // Indexed by the disc's place in the chunk.
+            let range = chunk.base..chunk.base + chunk.x.len();
+            let (rx, ry) = (&rx[range.clone()], &ry[range]);
+            self.chunk(chunk, boundary, move |k, x, y| {
+                let [dx, dy] = diff(x, y, rx[k] as f64, ry[k] as f64);
+                dx * dx + dy * dy
+            })
+        })
     }
 
     /// One chunk: the wall impulse, the largest squared displacement (of all discs and of

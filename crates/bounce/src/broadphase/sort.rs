@@ -44,8 +44,7 @@ pub(super) fn counting_sort(
             let base = *c * CHUNK;
             let (x, y) = (&x[base..base + keys.len()], &y[base..base + keys.len()]);
             if level_of.is_empty() {
-                // One grid: a copy of it in this frame keeps its scalars in registers.
-                let g = grids[0].clone();
+                let g = &grids[0];
                 for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
                     *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
                 }
