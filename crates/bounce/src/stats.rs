@@ -127,43 +127,87 @@ pub(crate) struct Measured {
 pub(crate) fn measure(
     p: &Particles,
     mass_model: MassModel,
+    uniform_radius: Option<f64>,
     exec: &Executor,
     extremes: bool,
 ) -> Measured {
     if extremes {
-        measure_pass::<true>(p, mass_model, exec)
+        measure_pass::<true>(p, mass_model, uniform_radius, exec)
     } else {
-        measure_pass::<false>(p, mass_model, exec)
+        measure_pass::<false>(p, mass_model, uniform_radius, exec)
     }
 }
 
+/// A chunk's sums, in registers (scalars, not a struct).
+#[derive(Clone, Copy)]
+struct ChunkSums {
+    e: f64,
+    px: f64,
+    py: f64,
+    max_speed2: f64,
+    min_radius: f64,
+}
+
+impl ChunkSums {
+    /// Adds a disc of mass `m`, velocity `(vx, vy)` and radius `r` (read only with
+    /// `EXTREMES`).
+    #[inline(always)]
+    fn add<const EXTREMES: bool>(&mut self, m: f64, vx: f64, vy: f64, r: impl Fn() -> f64) {
+        let v2 = vx * vx + vy * vy;
+        self.e += 0.5 * m * v2;
+        self.px += m * vx;
+        self.py += m * vy;
+        if EXTREMES {
+            self.max_speed2 = self.max_speed2.max(v2);
+            self.min_radius = self.min_radius.min(r());
+        }
+    }
+}
+
+/// [`measure`] with `extremes` fixed. Where every disc has radius `uniform_radius` and the
+/// mass follows the radius (the seed's model, or the area's), every disc weighs the same and
+/// the pass reads the velocities alone: a third less memory for the same bits (each disc's
+/// mass is the same value either way).
 fn measure_pass<const EXTREMES: bool>(
     p: &Particles,
     mass_model: MassModel,
+    uniform_radius: Option<f64>,
     exec: &Executor,
 ) -> Measured {
     let n = p.len();
+    let one_mass = match mass_model {
+        MassModel::Radius | MassModel::Area => uniform_radius,
+        MassModel::PerParticle => None,
+    };
     let partial = exec.map_index(n, 0..n.div_ceil(CHUNK), |chunk| {
-        // Scalars, not a struct, so the accumulators stay in registers.
-        let (mut e, mut px, mut py) = (0.0, 0.0, 0.0);
-        let (mut max_speed2, mut min_radius) = (0.0f64, f64::INFINITY);
-        for i in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
-            let m = mass_model.mass(p.radius[i], p.mass[i]);
-            let (vx, vy) = (p.vx[i], p.vy[i]);
-            let v2 = vx * vx + vy * vy;
-            e += 0.5 * m * v2;
-            px += m * vx;
-            py += m * vy;
-            if EXTREMES {
-                max_speed2 = max_speed2.max(v2);
-                min_radius = min_radius.min(p.radius[i]);
+        let range = chunk * CHUNK..((chunk + 1) * CHUNK).min(n);
+        let (vx, vy) = (&p.vx[range.clone()], &p.vy[range.clone()]);
+        let mut sums = ChunkSums {
+            e: 0.0,
+            px: 0.0,
+            py: 0.0,
+            max_speed2: 0.0,
+            min_radius: f64::INFINITY,
+        };
+        match one_mass {
+            Some(r) => {
+                let m = mass_model.mass(r, 0.0);
+                for (&vx, &vy) in vx.iter().zip(vy) {
+                    sums.add::<EXTREMES>(m, vx, vy, || r);
+                }
+            }
+            None => {
+                let (radius, mass) = (&p.radius[range.clone()], &p.mass[range]);
+                for (((&vx, &vy), &r), &mass) in vx.iter().zip(vy).zip(radius).zip(mass) {
+                    sums.add::<EXTREMES>(mass_model.mass(r, mass), vx, vy, || r);
+                }
             }
         }
         Measured {
-            kinetic_energy: e,
-            momentum: [px, py],
-            max_speed2,
-            min_radius,
+            kinetic_energy: sums.e,
+            momentum: [sums.px, sums.py],
+            max_speed2: sums.max_speed2,
+            min_radius: sums.min_radius,
             ..Measured::default()
         }
     });
@@ -181,4 +225,60 @@ fn measure_pass<const EXTREMES: bool>(
             radius_sum: 0.0,
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::particles::{Particle, ParticleId};
+
+    #[test]
+    fn equal_discs_measure_the_same_bits_without_reading_their_radii() {
+        // Velocities over many magnitudes (so rounding shows), in two chunks and a tail, and
+        // masses of their own that only the per-particle model reads.
+        let n = 2 * CHUNK + 123;
+        let mut p = Particles::default();
+        for i in 0..n {
+            let s = (i as f64 * 0.618_033_988_7).fract();
+            let v = [(s - 0.5) * 10f64.powi((i % 7) as i32 - 3), s * 3.7 - 1.1];
+            let mut disc = Particle::new([i as f64, 0.0], v, 0.37);
+            disc.mass = Some(1.0 + s);
+            p.push(ParticleId(i as u32), &disc);
+        }
+        let exec = Executor::new(2).unwrap();
+        for model in [MassModel::Radius, MassModel::Area, MassModel::PerParticle] {
+            for extremes in [false, true] {
+                let read = measure(&p, model, None, &exec, extremes);
+                let known = measure(&p, model, Some(0.37), &exec, extremes);
+                let bits = |m: &Measured| {
+                    [
+                        m.kinetic_energy,
+                        m.momentum[0],
+                        m.momentum[1],
+                        m.max_speed2,
+                        m.min_radius,
+                    ]
+                    .map(f64::to_bits)
+                };
+                assert_eq!(bits(&known), bits(&read), "{model:?}, extremes {extremes}");
+                // And against the definition, summed one chunk at a time.
+                let mass = |i: usize| model.mass(p.radius[i], p.mass[i]);
+                let mut energy = 0.0;
+                for chunk in (0..n).collect::<Vec<_>>().chunks(CHUNK) {
+                    let part: f64 = chunk.iter().fold(0.0, |e, &i| {
+                        e + 0.5 * mass(i) * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i])
+                    });
+                    energy += part;
+                }
+                assert_eq!(
+                    known.kinetic_energy.to_bits(),
+                    energy.to_bits(),
+                    "{model:?}"
+                );
+                if extremes {
+                    assert_eq!(known.min_radius, 0.37);
+                }
+            }
+        }
+    }
 }

@@ -446,6 +446,7 @@ impl World {
             ..measure(
                 &self.particles,
                 self.config.mass_model,
+                self.broadphase.uniform_radius(),
                 &self.exec,
                 self.config.max_travel.is_some(),
             )
@@ -1029,6 +1030,7 @@ impl World {
         self.measured = measure(
             &self.particles,
             self.config.mass_model,
+            self.broadphase.uniform_radius(),
             &self.exec,
             self.config.max_travel.is_some(),
         );
