@@ -34,7 +34,13 @@ const PREFETCH_AHEAD: usize = 8;
 /// centre difference, `Δp_ij` the pair's impulse, the antisymmetric part of the two momentum
 /// changes: exact when the model conserves momentum), summed exactly (so in no particular
 /// order), over the contacts the step's tally counts (by the lower-id disc's place).
-pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> ExactSum {
+/// `uniform_radius` is every disc's radius when all are equal (as the broadphase knows).
+pub(crate) fn resolve_all(
+    contacts: &Contacts,
+    p: &mut Particles,
+    ctx: &StepContext,
+    uniform_radius: Option<f64>,
+) -> ExactSum {
     // One loop per common case, so the boundary and the mass model are decided once, not
     // per contact.
     let walls = match ctx.geometry {
@@ -45,11 +51,16 @@ pub(crate) fn resolve_all(contacts: &Contacts, p: &mut Particles, ctx: &StepCont
     // for memory unless their discs are asked for ahead.
     let scattered = contacts.list.len() < p.len() / 4;
     let radius_is_mass = ctx.law.mass_model == MassModel::Radius;
-    match (scattered, radius_is_mass) {
-        (true, true) => resolve_pieces::<true, true>(contacts, p, ctx, walls),
-        (true, false) => resolve_pieces::<true, false>(contacts, p, ctx, walls),
-        (false, true) => resolve_pieces::<false, true>(contacts, p, ctx, walls),
-        (false, false) => resolve_pieces::<false, false>(contacts, p, ctx, walls),
+    // Equal discs' radius is one number, not a fifth cache line per scattered disc (dense
+    // contacts find theirs in cache).
+    let r = uniform_radius.unwrap_or(f64::NAN);
+    match (scattered, radius_is_mass, uniform_radius.is_some()) {
+        (true, true, true) => resolve_pieces::<true, true, true>(contacts, p, ctx, walls, r),
+        (true, false, true) => resolve_pieces::<true, false, true>(contacts, p, ctx, walls, r),
+        (true, true, false) => resolve_pieces::<true, true, false>(contacts, p, ctx, walls, r),
+        (true, false, false) => resolve_pieces::<true, false, false>(contacts, p, ctx, walls, r),
+        (false, true, _) => resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r),
+        (false, false, _) => resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r),
     }
 }
 
@@ -61,18 +72,20 @@ fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
     L::select(v.lt(lo + r), lo + r, v)
 }
 
-/// [`resolve_all`] with whether to prefetch (`PREFETCH`) and whether the mass is the
-/// radius (`RADIUS_MASS`, the seed's model) fixed, and the walls' corners if any.
+/// [`resolve_all`] with whether to prefetch (`PREFETCH`), whether the mass is the radius
+/// (`RADIUS_MASS`, the seed's model) and whether every disc has radius `uniform_radius`
+/// (`UNIFORM`) fixed, and the walls' corners if any.
 ///
 /// Each segment of a piece (one colour of one block row) is cut at a block boundary into two
 /// halves, which touch disjoint discs (see `contacts`): their contacts go through the law
 /// two at a time, one per lane ([`F64x2`]), with the bits of one at a time. What one half
 /// has left over goes alone.
-fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
+fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: bool>(
     contacts: &Contacts,
     p: &mut Particles,
     ctx: &StepContext,
     walls: Option<([f64; 2], [f64; 2])>,
+    uniform_radius: f64,
 ) -> ExactSum {
     let tally = ctx.tally;
     let law = &ctx.law;
@@ -83,11 +96,14 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
     let y = SharedSlice::new(&mut p.y);
     let vx = SharedSlice::new(&mut p.vx);
     let vy = SharedSlice::new(&mut p.vy);
+    let radius_of = |i: usize| {
+        if UNIFORM { uniform_radius } else { radius[i] }
+    };
     let mass_of = |i: usize| {
         if RADIUS_MASS {
-            radius[i]
+            radius_of(i)
         } else {
-            law.mass(radius[i], mass[i])
+            law.mass(radius_of(i), mass[i])
         }
     };
     let prefetch_discs = |contact: &Contact| {
@@ -96,7 +112,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
             prefetch(y.address(i));
             prefetch(vx.address(i));
             prefetch(vy.address(i));
-            prefetch(radius.as_ptr().wrapping_add(i));
+            if !UNIFORM {
+                prefetch(radius.as_ptr().wrapping_add(i));
+            }
         }
     };
     // The contacts `pair(lane)` (storage indices, lower id first), one per lane; adds the
@@ -109,7 +127,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
     #[inline(always)]
     unsafe fn resolve<L: Lanes>(
         pair: impl Fn(usize) -> (usize, usize),
-        discs: &Discs<'_, impl Fn(usize) -> f64>,
+        discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
         virial: &mut ExactSum,
     ) {
         let Discs {
@@ -117,7 +135,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
             y,
             vx,
             vy,
-            radius,
+            radius_of,
             mass_of,
             law,
             min_image,
@@ -144,7 +162,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
             };
             let va = [L::gather(|k| vx.get(a(k))), L::gather(|k| vy.get(a(k)))];
             let vb = [L::gather(|k| vx.get(b(k))), L::gather(|k| vy.get(b(k)))];
-            let (ra, rb) = (L::gather(|k| radius[a(k)]), L::gather(|k| radius[b(k)]));
+            let (ra, rb) = (
+                L::gather(|k| radius_of(a(k))),
+                L::gather(|k| radius_of(b(k))),
+            );
             let (ma, mb) = (L::gather(|k| mass_of(a(k))), L::gather(|k| mass_of(b(k))));
             let out = resolve_lanes(diff, [va, vb], [ra, rb], [ma, mb], law);
             // The pair's impulse: half the difference of the momentum changes.
@@ -179,7 +200,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
         y: &y,
         vx: &vx,
         vy: &vy,
-        radius,
+        radius_of,
         mass_of,
         law,
         min_image,
@@ -250,12 +271,12 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool>(
 }
 
 /// What resolving a contact reads besides the contact.
-struct Discs<'a, M> {
+struct Discs<'a, R, M> {
     x: &'a SharedSlice<'a, f64>,
     y: &'a SharedSlice<'a, f64>,
     vx: &'a SharedSlice<'a, f64>,
     vy: &'a SharedSlice<'a, f64>,
-    radius: &'a [f64],
+    radius_of: R,
     mass_of: M,
     law: &'a Law,
     min_image: MinImage,

@@ -118,6 +118,9 @@ pub(crate) struct Broadphase {
     /// Rebuild whenever a disc strays (a test compares the two ways).
     #[cfg(test)]
     pub(crate) no_strays: bool,
+    /// Read every disc's radius even when all are equal (a test compares the two ways).
+    #[cfg(test)]
+    pub(crate) never_uniform: bool,
     /// The number of discs at the last listing.
     count: usize,
     /// Counts the listings: a list made for other storage indices has another number.
@@ -144,8 +147,13 @@ impl Broadphase {
         self.max_radius
     }
 
-    /// The radius of every disc, when all are equal (as at the last listing).
+    /// The radius of every disc, when all are equal (as at the last listing): detection,
+    /// resolution and measurement then read one number instead of an array.
     pub(crate) fn uniform_radius(&self) -> Option<f64> {
+        #[cfg(test)]
+        if self.never_uniform {
+            return None;
+        }
         (self.listed && self.uniform_radius).then_some(self.max_radius)
     }
 

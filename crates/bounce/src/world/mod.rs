@@ -417,8 +417,12 @@ impl World {
                     stats.max_overlap = stats.max_overlap.max(found.max_overlap);
                 }
                 profile.pairs += clock.lap();
-                sums.virial
-                    .merge(&resolve_all(&self.contacts, &mut self.particles, &ctx));
+                sums.virial.merge(&resolve_all(
+                    &self.contacts,
+                    &mut self.particles,
+                    &ctx,
+                    bp.uniform_radius(),
+                ));
                 if has_obstacles {
                     meet_obstacles(
                         &mut self.particles,

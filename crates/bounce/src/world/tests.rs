@@ -4,6 +4,7 @@
 use super::state::WorldState;
 use super::*;
 use crate::Boundary;
+use crate::config::MassModel;
 use crate::scene::{self, Gas, Speeds};
 
 /// A fast polydisperse gas, so discs cross the skin within a few steps.
@@ -474,4 +475,51 @@ fn a_settling_pile_gives_the_same_bits_with_strays() {
     assert_eq!(without.2, 0);
     // While settling, strays kept the list in some steps (the rest on the near band).
     assert!(with.2 > 10, "{} steps with strays", with.2);
+}
+
+#[test]
+fn equal_discs_give_the_same_bits_whether_their_radius_is_read_or_known() {
+    // With every radius equal, detection, resolution and measurement use that one number
+    // instead of reading the radii: the same state and statistics, bit for bit, for every
+    // mass model (the seed's mass = radius, the area, each disc's own), in walls and in a
+    // periodic box, dilute (a gas, whose solver asks for its discs ahead) and dense (a pile).
+    for boundary in boxes(40.0) {
+        for mass_model in [MassModel::Radius, MassModel::Area, MassModel::PerParticle] {
+            for (count, gravity) in [(800, [0.0, 0.0]), (1300, [0.0, -9.81])] {
+                let config = Config {
+                    boundary: boundary.clone(),
+                    mass_model,
+                    gravity,
+                    coefficient_of_restitution: 0.8,
+                    ..Config::default()
+                };
+                let gas = Gas {
+                    count,
+                    radius: [0.4, 0.4],
+                    region: None,
+                    speeds: Speeds::Uniform(4.0),
+                    drift: [0.3, -0.2],
+                    seed: 17,
+                };
+                let mut discs = scene::gas(&gas, &config).unwrap();
+                for (k, disc) in discs.iter_mut().enumerate() {
+                    // Masses of their own, which only the per-particle model reads.
+                    disc.mass = Some(0.5 + (k % 7) as f64 * 0.25);
+                }
+                let case = format!("{boundary:?} {mass_model:?} {count}");
+                let mut worlds = [false, true].map(|never_uniform| {
+                    let mut world = world_of(config.clone(), discs.clone(), 2);
+                    world.broadphase.never_uniform = never_uniform;
+                    world
+                });
+                for _ in 0..60 {
+                    let [known, read] = worlds.each_mut().map(|w| *w.step(1.0 / 60.0).unwrap());
+                    assert_eq!(known, read, "{case}");
+                }
+                assert!(worlds[0].broadphase.uniform_radius().is_some(), "{case}");
+                assert!(worlds[0].stats().pairs > 0, "{case}");
+                assert_eq!(worlds[0].state_hash(), worlds[1].state_hash(), "{case}");
+            }
+        }
+    }
 }
