@@ -2,6 +2,7 @@
 
 import _thread
 import resource
+import signal
 import threading
 import time
 
@@ -53,11 +54,18 @@ def test_other_python_threads_run_during_a_long_step():
 
 def test_ctrl_c_interrupts_between_steps():
     world = gas(20_000)
+    # Python's own Ctrl-C handler, as in a terminal: a process started in the background of
+    # a non-interactive shell (`nohup ... &`, some CI runners) begins with SIGINT ignored,
+    # and then `interrupt_main` does nothing.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        world.step(1_000_000)
-    timer.cancel()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            world.step(1_000_000)
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     steps = world.step_count
     assert 0 < steps < 1_000_000
     # The world is whole: it steps on, and time agrees with the steps.
