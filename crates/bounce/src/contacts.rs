@@ -943,7 +943,8 @@ unsafe fn test<const UNIFORM: bool>(
     // (in a pile a third of the candidates collide, at random: a branch there mispredicts
     // often). Each chunk's survivors are then given the seed's exact test.
     const SCREEN: usize = 256;
-    /// At most one hit in this many is sparse: a gas has one in 50, a pile one in 3.
+    /// Hits are sparse, their ids worth asking for ahead, when at most one candidate in this
+    /// many is one: in a gas about one in 50, in a pile one in 3.
     const SPARSE_HITS: usize = 8;
     let mut hits = [0u16; SCREEN];
     for (c, chunk) in candidates.chunks(SCREEN).enumerate() {

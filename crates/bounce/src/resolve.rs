@@ -53,6 +53,7 @@ pub(crate) fn resolve_all(
     let radius_is_mass = ctx.law.mass_model == MassModel::Radius;
     // Equal discs' radius is one number, not a fifth cache line per scattered disc (dense
     // contacts find theirs in cache).
+    // (Unread unless `UNIFORM`.)
     let r = uniform_radius.unwrap_or(f64::NAN);
     match (scattered, radius_is_mass, uniform_radius.is_some()) {
         (true, true, true) => resolve_pieces::<true, true, true>(contacts, p, ctx, walls, r),

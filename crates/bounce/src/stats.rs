@@ -138,7 +138,7 @@ pub(crate) fn measure(
     }
 }
 
-/// A chunk's sums, in registers (scalars, not a struct).
+/// A chunk's running sums (a small `Copy` struct the loop keeps in registers).
 #[derive(Clone, Copy)]
 struct ChunkSums {
     e: f64,
