@@ -149,17 +149,17 @@ struct ChunkSums {
 }
 
 impl ChunkSums {
-    /// Adds a disc of mass `m`, velocity `(vx, vy)` and radius `r` (read only with
+    /// Adds a disc of mass `m`, velocity `(vx, vy)` and radius `r` (used only with
     /// `EXTREMES`).
     #[inline(always)]
-    fn add<const EXTREMES: bool>(&mut self, m: f64, vx: f64, vy: f64, r: impl Fn() -> f64) {
+    fn add<const EXTREMES: bool>(&mut self, m: f64, vx: f64, vy: f64, r: f64) {
         let v2 = vx * vx + vy * vy;
         self.e += 0.5 * m * v2;
         self.px += m * vx;
         self.py += m * vy;
         if EXTREMES {
             self.max_speed2 = self.max_speed2.max(v2);
-            self.min_radius = self.min_radius.min(r());
+            self.min_radius = self.min_radius.min(r);
         }
     }
 }
@@ -193,13 +193,13 @@ fn measure_pass<const EXTREMES: bool>(
             Some(r) => {
                 let m = mass_model.mass(r, 0.0);
                 for (&vx, &vy) in vx.iter().zip(vy) {
-                    sums.add::<EXTREMES>(m, vx, vy, || r);
+                    sums.add::<EXTREMES>(m, vx, vy, r);
                 }
             }
             None => {
                 let (radius, mass) = (&p.radius[range.clone()], &p.mass[range]);
                 for (((&vx, &vy), &r), &mass) in vx.iter().zip(vy).zip(radius).zip(mass) {
-                    sums.add::<EXTREMES>(mass_model.mass(r, mass), vx, vy, || r);
+                    sums.add::<EXTREMES>(mass_model.mass(r, mass), vx, vy, r);
                 }
             }
         }
