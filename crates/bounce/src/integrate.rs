@@ -189,6 +189,17 @@ fn record_hit(
     }
 }
 
+/// Stores `new` in `slot` only where its bits differ. Without gravity (along an axis) a
+/// velocity changes only at a wall, so its cache line stays clean and is never written back:
+/// at 10^7 discs, beyond the last-level cache, that is two of the pass's eight streams of
+/// memory traffic. The bits stored are the same either way.
+#[inline(always)]
+fn store_changed(slot: &mut f64, new: f64) {
+    if slot.to_bits() != new.to_bits() {
+        *slot = new;
+    }
+}
+
 /// A chunk with more strays than this (of [`CHUNK`] discs) rebuilds the list: strays are
 /// the few, and a bunch of them in one place is better listed anew.
 const CHUNK_STRAYS: usize = 64;
@@ -301,7 +312,9 @@ impl<'r> Pass<'r> {
             let mut state = [*x + vxi * h, *y + vyi * h, vxi, vyi];
             boundary(*base + k, &mut state, image, &mut impulse);
             let [xi, yi, vxi, vyi] = state;
-            (*x, *y, *vx, *vy) = (xi, yi, vxi, vyi);
+            (*x, *y) = (xi, yi);
+            store_changed(vx, vxi);
+            store_changed(vy, vyi);
             max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
             max_displacement2 = max_displacement2.max(displacement2(k, xi, yi));
         }
