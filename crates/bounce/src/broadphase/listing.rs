@@ -137,36 +137,52 @@ impl Context<'_> {
         out: &mut Bands,
     ) {
         reserve(out, others.len());
+        let none = others.end..others.end;
         // SAFETY: room reserved just now.
-        unsafe { self.test_in_room::<PERIODIC, PAIRWISE>(a, others, cuts, out) };
+        unsafe { self.test_in_room::<PERIODIC, PAIRWISE>(a, [others, none], cuts, out) };
     }
 
-    /// [`Context::test`] where each band already has room for `others.len()` more pairs.
+    /// [`Context::test`] over two runs (the second often empty) in one loop, where each band
+    /// already has room for both: in a gas the runs are a disc or two each, of random
+    /// lengths, so each loop's end is a mispredicted branch, and one loop has one end.
     ///
     /// # Safety
-    /// Each band's spare capacity is at least `others.len()`.
+    /// Each band's spare capacity is at least the two runs' length together.
     #[inline(always)]
     unsafe fn test_in_room<const PERIODIC: bool, const PAIRWISE: bool>(
         &self,
         a: usize,
-        others: Range<usize>,
+        [first, second]: [Range<usize>; 2],
         cuts: &Cuts,
         out: &mut Bands,
     ) {
         let (xa, ya, ra) = (self.x[a], self.y[a], self.radius[a]);
-        let start = others.start;
-        // Slices first: the loop then runs without bounds checks.
-        let (xs, ys) = (&self.x[others.clone()], &self.y[others.clone()]);
-        let rs = if PAIRWISE { &self.radius[others] } else { &[] };
+        let n1 = first.len();
+        let total = n1 + second.len();
+        // Checked once here, so the loop reads without bounds checks.
+        let len = self.x.len().min(self.y.len());
+        let len = if PAIRWISE {
+            len.min(self.radius.len())
+        } else {
+            len
+        };
+        assert!(first.end <= len && second.end <= len);
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to its band's spare capacity and that band's length only
         // advances on a hit.
         let [near, far] = out;
-        debug_assert!(near.capacity() - near.len() >= xs.len());
-        debug_assert!(far.capacity() - far.len() >= xs.len());
+        debug_assert!(near.capacity() - near.len() >= total);
+        debug_assert!(far.capacity() - far.len() >= total);
         let (mut near_len, mut far_len) = (near.len(), far.len());
         let (near_spare, far_spare) = (near.as_mut_ptr(), far.as_mut_ptr());
-        for (k, (&xb, &yb)) in xs.iter().zip(ys).enumerate() {
+        // Index `k` of the joined runs is disc `k + offset`, the offset chosen without a
+        // branch. The second's is its start less the first run's length, in wrapping
+        // arithmetic: below zero, it comes back with `k >= n1`.
+        let offsets = [first.start, second.start.wrapping_sub(n1)];
+        for k in 0..total {
+            let b = k.wrapping_add(offsets[(k >= n1) as usize]);
+            // SAFETY: `b` is in one of the runs, within the discs (asserted above).
+            let (xb, yb) = unsafe { (*self.x.get_unchecked(b), *self.y.get_unchecked(b)) };
             let [dx, dy] = if PERIODIC {
                 self.min_image.diff(xa, ya, xb, yb)
             } else {
@@ -174,13 +190,15 @@ impl Context<'_> {
             };
             let d2 = dx * dx + dy * dy;
             let Cuts { near2, cut2 } = if PAIRWISE {
-                self.cuts(self.law.collision_distance(ra, rs[k]))
+                // SAFETY: as above.
+                let rb = unsafe { *self.radius.get_unchecked(b) };
+                self.cuts(self.law.collision_distance(ra, rb))
             } else {
                 *cuts
             };
-            let pair = [a as u32, (start + k) as u32];
-            // SAFETY: each band has room for `xs.len()` more pairs (the caller's promise)
-            // and advances by at most one per iteration.
+            let pair = [a as u32, b as u32];
+            // SAFETY: each band has room for `total` more pairs (the caller's promise) and
+            // advances by at most one per iteration.
             unsafe {
                 near_spare.add(near_len).write(pair);
                 far_spare.add(far_len).write(pair);
@@ -226,20 +244,11 @@ impl Context<'_> {
                     let per_disc = first_end - own.start + upper.len();
                     for a in own.clone() {
                         reserve(out, per_disc);
-                        // SAFETY: room for `per_disc` pairs, more than the two runs hold.
+                        // SAFETY: room for `per_disc` pairs, what the two runs hold.
                         unsafe {
                             self.test_in_room::<PERIODIC, PAIRWISE>(
                                 a,
-                                a + 1..first_end,
-                                &own_cuts,
-                                out,
-                            );
-                            let [near, far] = &*out;
-                            debug_assert!(near.capacity() - near.len() >= upper.len());
-                            debug_assert!(far.capacity() - far.len() >= upper.len());
-                            self.test_in_room::<PERIODIC, PAIRWISE>(
-                                a,
-                                upper.clone(),
+                                [a + 1..first_end, upper.clone()],
                                 &own_cuts,
                                 out,
                             );
