@@ -160,12 +160,7 @@ impl Context<'_> {
         let n1 = first.len();
         let total = n1 + second.len();
         // Checked once here, so the loop reads without bounds checks.
-        let len = self.x.len().min(self.y.len());
-        let len = if PAIRWISE {
-            len.min(self.radius.len())
-        } else {
-            len
-        };
+        let len = self.x.len().min(self.y.len()).min(self.radius.len());
         assert!(first.end <= len && second.end <= len);
         // About one test in four is a candidate, so a branch on it would mispredict often:
         // every pair is written to its band's spare capacity and that band's length only
@@ -244,7 +239,7 @@ impl Context<'_> {
                     let per_disc = first_end - own.start + upper.len();
                     for a in own.clone() {
                         reserve(out, per_disc);
-                        // SAFETY: room for `per_disc` pairs, what the two runs hold.
+                        // SAFETY: room for `per_disc` pairs, at least what the two runs hold.
                         unsafe {
                             self.test_in_room::<PERIODIC, PAIRWISE>(
                                 a,
