@@ -88,7 +88,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         world.state_hash()
     );
     println!(
-        "ms/step: mean {:.2} median {:.2} p99 {:.2}; stages (mean): integrate {:.2} bin {:.2} pairs {:.2} resolve {:.2} measure {:.2}",
+        "ms/step: mean {:.3} median {:.3} p99 {:.3}; stages (mean): integrate {:.3} bin {:.3} pairs {:.3} resolve {:.3} measure {:.3}",
         mean * 1e3,
         quantile(0.5),
         quantile(0.99),

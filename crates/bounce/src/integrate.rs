@@ -2,9 +2,8 @@
 //!
 //! `v += g h; x += v h` for each disc, and the boundary applied right after it moves, in one
 //! pass over memory. The same pass measures how far each disc now is from its broadphase
-//! reference position, so checking the candidate list costs no extra pass; a chunk whose
-//! farthest disc is past the list's allowance is looked at again, still in cache, for the
-//! discs that are (the broadphase's strays). It runs over fixed chunks; the wall impulses
+//! reference position, so checking the candidate list costs no extra pass, and notes the
+//! discs past the list's allowance (the broadphase's strays) without a branch. It runs over fixed chunks; the wall impulses
 //! are summed exactly (`sum`), so they depend on neither the thread count nor the storage
 //! order.
 //!
@@ -200,6 +199,14 @@ fn store_changed(slot: &mut f64, new: f64) {
     }
 }
 
+/// The larger of `acc` and `v`, `acc` when `v` is NaN (as `f64::max` when `acc` is never
+/// NaN, which holds for the pass's maxima, started at zero): one `maxsd` on the loop's
+/// dependency chain instead of `f64::max`'s NaN blend.
+#[inline(always)]
+fn max_skipping_nan(acc: f64, v: f64) -> f64 {
+    if v > acc { v } else { acc }
+}
+
 /// A chunk with more strays than this (of [`CHUNK`] discs) rebuilds the list: strays are
 /// the few, and a bunch of them in one place is better listed anew.
 const CHUNK_STRAYS: usize = 64;
@@ -306,7 +313,13 @@ impl<'r> Pass<'r> {
             .zip(vx.iter_mut())
             .zip(vy.iter_mut())
             .zip(image.iter_mut());
+        let stray2 = self.stray2;
         let mut max_displacement2 = 0.0f64;
+        let mut max_kept2 = 0.0f64;
+        // The strays' places in the chunk, written without a branch: past the cap they go
+        // to the last slot, which is never read (the count says the chunk overflowed).
+        let mut strays = [0u32; CHUNK_STRAYS + 1];
+        let mut stray_count = 0usize;
         for (k, ((((x, y), vx), vy), image)) in discs.enumerate() {
             let (vxi, vyi) = (*vx + gx * h, *vy + gy * h);
             let mut state = [*x + vxi * h, *y + vyi * h, vxi, vyi];
@@ -315,35 +328,25 @@ impl<'r> Pass<'r> {
             (*x, *y) = (xi, yi);
             store_changed(vx, vxi);
             store_changed(vy, vyi);
-            max_speed2 = max_speed2.max(vxi * vxi + vyi * vyi);
-            max_displacement2 = max_displacement2.max(displacement2(k, xi, yi));
+            max_speed2 = max_skipping_nan(max_speed2, vxi * vxi + vyi * vyi);
+            let d2 = displacement2(k, xi, yi);
+            max_displacement2 = max_skipping_nan(max_displacement2, d2);
+            let strayed = d2 >= stray2;
+            max_kept2 = max_skipping_nan(max_kept2, if strayed { 0.0 } else { d2 });
+            strays[stray_count.min(CHUNK_STRAYS)] = k as u32;
+            stray_count += strayed as usize;
         }
-        let (max_kept2, strays) = if max_displacement2 >= self.stray2 {
-            // Some disc strayed: which ones, in a second pass over the chunk (still in
-            // cache), so the pass over memory stays as lean as without strays.
-            let mut strays = Vec::new();
-            let mut max_kept2 = 0.0f64;
-            for (k, (&x, &y)) in x.iter().zip(y.iter()).enumerate() {
-                let d2 = displacement2(k, x, y);
-                if d2 >= self.stray2 {
-                    if strays.len() == CHUNK_STRAYS {
-                        // Too many: the list is made anew.
-                        return ChunkMoved {
-                            impulse,
-                            max_displacement2,
-                            max_kept2: max_displacement2,
-                            max_speed2,
-                            strays: None,
-                        };
-                    }
-                    strays.push((*base + k) as u32);
-                } else {
-                    max_kept2 = max_kept2.max(d2);
-                }
-            }
-            (max_kept2, Some(strays))
+        let strays = (stray_count <= CHUNK_STRAYS).then(|| {
+            strays[..stray_count]
+                .iter()
+                .map(|&k| *base as u32 + k)
+                .collect()
+        });
+        // Too many strays: the list is made anew.
+        let max_kept2 = if strays.is_some() {
+            max_kept2
         } else {
-            (max_displacement2, Some(Vec::new()))
+            max_displacement2
         };
         ChunkMoved {
             impulse,
@@ -360,6 +363,78 @@ mod tests {
     use super::*;
     use crate::particles::{Particle, ParticleId};
     use crate::{Boundary, Config};
+
+    /// `count` discs on a unit lattice at rest, but for `moved`: (index, displacement in
+    /// one substep along x), integrated once from a reference at their starting places.
+    fn integrate_once(count: usize, moved: &[(usize, f64)]) -> (Particles, Reference, Moved) {
+        let h = 0.01;
+        let mut p = Particles::default();
+        for i in 0..count {
+            let position = [(i % 128) as f64, (i / 128) as f64];
+            let v = moved.iter().find(|m| m.0 == i).map_or(0.0, |m| m.1 / h);
+            p.push(ParticleId(i as _), &Particle::new(position, [v, 0.0], 0.25));
+        }
+        let reference = Reference::at(&p.x, &p.y, 1.0);
+        let config = Config::default();
+        let exec = Executor::default();
+        let ctx = StepContext::new(&config, h, &exec, None);
+        let moved = integrate(&mut p, &ctx, &reference, 0.25);
+        (p, reference, moved)
+    }
+
+    /// What integration should report of the strays, from the positions it left: the strays
+    /// (at or past the allowance), the largest squared displacement and that of the others.
+    fn strays_by_hand(p: &Particles, reference: &Reference) -> (Vec<u32>, f64, f64) {
+        let (rx, ry) = reference.positions(p.len()).expect("a reference");
+        let a2 = reference.allowance() * reference.allowance();
+        let (mut strays, mut all, mut kept) = (Vec::new(), 0.0f64, 0.0f64);
+        for i in 0..p.len() {
+            let (dx, dy) = (p.x[i] - rx[i] as f64, p.y[i] - ry[i] as f64);
+            let d2 = dx * dx + dy * dy;
+            all = all.max(d2);
+            if d2 >= a2 {
+                strays.push(i as u32);
+            } else {
+                kept = kept.max(d2);
+            }
+        }
+        (strays, all, kept)
+    }
+
+    #[test]
+    fn integration_finds_every_stray_and_the_largest_displacements() {
+        // Two chunks and a bit; the allowance is 0.49 of the skin (1.0). Strays in the first
+        // chunk (at its ends too), exactly the per-chunk cap in the second, one in the last;
+        // others moved a little, the largest of them (0.3) in the second chunk.
+        let a = 0.49;
+        let mut moved = vec![(0, 2.0 * a), (5, 0.2), (17, 1.5 * a), (CHUNK - 1, a + 0.01)];
+        moved.extend((0..CHUNK_STRAYS).map(|k| (CHUNK + 3 * k, a + 0.05)));
+        moved.extend([
+            (CHUNK + 1, 0.3),
+            (CHUNK + 2, -0.25),
+            (2 * CHUNK + 4, -3.0 * a),
+        ]);
+        let (p, reference, found) = integrate_once(2 * CHUNK + 10, &moved);
+        let (strays, all, kept) = strays_by_hand(&p, &reference);
+        assert_eq!(strays.len(), 4 + CHUNK_STRAYS);
+        assert!(!found.too_many_strays);
+        assert_eq!(found.strays, strays);
+        assert_eq!(found.max_displacement2, all);
+        assert_eq!(found.max_kept2, kept);
+        assert!((kept - 0.09).abs() < 1e-12 && (all - 9.0 * a * a).abs() < 1e-12);
+        assert!((found.max_stride - 3.0 * a).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_chunk_with_more_strays_than_its_cap_asks_for_a_new_list() {
+        // One stray past the cap in the first chunk: the list is made anew, and no disc can
+        // be said to be within less than the largest displacement.
+        let moved: Vec<_> = (0..=CHUNK_STRAYS).map(|k| (7 * k, 0.6)).collect();
+        let (_, _, found) = integrate_once(CHUNK + 100, &moved);
+        assert!(found.too_many_strays);
+        assert_eq!(found.max_kept2, found.max_displacement2);
+        assert!((found.max_displacement2 - 0.36).abs() < 1e-12);
+    }
 
     #[test]
     fn the_walls_prefilter_never_skips_a_disc_a_wall_would_move() {

@@ -103,6 +103,14 @@ impl Reference {
         largest.is_finite()
     }
 
+    /// A reference at `x`, `y` for candidates listed up to `skin` (for tests elsewhere).
+    #[cfg(test)]
+    pub(crate) fn at(x: &[f64], y: &[f64], skin: f64) -> Reference {
+        let mut reference = Reference::default();
+        reference.record(x, y, skin, &Executor::default());
+        reference
+    }
+
     /// Checks loaded data against the particle count; says what is wrong.
     pub(crate) fn check(&self, count: usize) -> Result<(), String> {
         let lengths_ok =
