@@ -317,6 +317,14 @@ impl World {
     /// [`crate::MAX_SUBSTEPS`]): for a part of a distributed world, whose substeps the whole
     /// world's fastest disc decides (see [`World::substeps_for_extremes`]).
     pub fn step_with_substeps(&mut self, dt: f64, substeps: u32) -> Result<&StepStats, StepError> {
+        let installer = self.exec.installer(self.particles.len());
+        installer.install(|| self.step_in_pool(dt, substeps))?;
+        Ok(&self.stats)
+    }
+
+    /// The step's body, on one of the pool's threads when the world is large enough to use
+    /// them (see `Executor::installer`).
+    fn step_in_pool(&mut self, dt: f64, substeps: u32) -> Result<(), StepError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(StepError::InvalidTimeStep(dt));
         }
@@ -482,7 +490,7 @@ impl World {
                 id: self.first_non_finite(),
             });
         }
-        Ok(&self.stats)
+        Ok(())
     }
 
     /// The emitters' discs for a step of `dt`, added before it; returns how many.
