@@ -709,11 +709,22 @@ impl Contacts {
         self.presorted.generation.is_some()
     }
 
-    /// Segment `segment` cut in two at the block boundary nearest its middle (the second
-    /// half empty when it is one block): whole blocks of one colour in one row each, so the
-    /// halves touch disjoint discs and may be resolved side by side.
-    pub(crate) fn halves(&self, segment: usize) -> [Range<usize>; 2] {
-        let Range { start, end } = self.segments[segment].clone();
+    /// Segment `segment` cut in four at block boundaries, as [`Contacts::halves_of`] cuts it
+    /// and then each half: whole blocks of one colour in one row each, so the quarters touch
+    /// disjoint discs and may be resolved side by side. (A quarter is empty where there are
+    /// too few blocks.)
+    pub(crate) fn quarters(&self, segment: usize) -> [[Range<usize>; 2]; 2] {
+        self.halves_of(self.segments[segment].clone())
+            .map(|half| self.halves_of(half))
+    }
+
+    /// The contacts `range` of one segment cut in two at the block boundary nearest its
+    /// middle (the second half empty when it is one block).
+    fn halves_of(&self, range: Range<usize>) -> [Range<usize>; 2] {
+        let Range { start, end } = range;
+        if start == end {
+            return [start..end, end..end];
+        }
         let list = &self.list;
         let same_block = |k: usize| list[k].key == list[k - 1].key;
         let middle = start + (end - start) / 2;

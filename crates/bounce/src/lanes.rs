@@ -1,5 +1,5 @@
-//! Lanes: the arithmetic the collision law is written in, for one pair at a time (`f64`) or
-//! two at once ([`F64x2`]).
+//! Lanes: the arithmetic the collision law is written in, for one pair at a time (`f64`),
+//! two at once ([`F64x2`]) or four ([`F64x4`]).
 //!
 //! A pair's resolution is one long chain of dependent operations (a square root, then
 //! divisions by its result, then by the sum of the masses), longer than the processor can
@@ -71,6 +71,91 @@ impl Lanes for f64 {
 }
 
 pub use imp::F64x2;
+
+/// Four `f64` lanes: two [`F64x2`] side by side. Four pairs read their discs before any of
+/// them writes back, so the processor sees two independent chains at once (two pairs of
+/// lanes resolved one after the other in the program would make the second pair's loads wait
+/// behind the first pair's stores, which the processor cannot tell apart from its own).
+#[derive(Clone, Copy, Debug)]
+pub struct F64x4([F64x2; 2]);
+
+/// Four lane masks.
+#[derive(Clone, Copy, Debug)]
+pub struct Mask4([<F64x2 as Lanes>::Mask; 2]);
+
+impl F64x4 {
+    /// The four lanes.
+    #[cfg(test)]
+    #[inline(always)]
+    pub fn lanes(self) -> [f64; 4] {
+        let ([a, b], [c, d]) = (self.0[0].lanes(), self.0[1].lanes());
+        [a, b, c, d]
+    }
+}
+
+macro_rules! op4 {
+    ($trait:ident, $method:ident) => {
+        impl $trait for F64x4 {
+            type Output = F64x4;
+            #[inline(always)]
+            fn $method(self, other: F64x4) -> F64x4 {
+                F64x4([
+                    $trait::$method(self.0[0], other.0[0]),
+                    $trait::$method(self.0[1], other.0[1]),
+                ])
+            }
+        }
+    };
+}
+op4!(Add, add);
+op4!(Sub, sub);
+op4!(Mul, mul);
+op4!(Div, div);
+
+impl Neg for F64x4 {
+    type Output = F64x4;
+    #[inline(always)]
+    fn neg(self) -> F64x4 {
+        F64x4([-self.0[0], -self.0[1]])
+    }
+}
+
+impl Lanes for F64x4 {
+    type Mask = Mask4;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        F64x4([F64x2::splat(v); 2])
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        F64x4([self.0[0].sqrt(), self.0[1].sqrt()])
+    }
+    #[inline(always)]
+    fn gt(self, other: Self) -> Mask4 {
+        Mask4([self.0[0].gt(other.0[0]), self.0[1].gt(other.0[1])])
+    }
+    #[inline(always)]
+    fn lt(self, other: Self) -> Mask4 {
+        Mask4([self.0[0].lt(other.0[0]), self.0[1].lt(other.0[1])])
+    }
+    #[inline(always)]
+    fn select(mask: Mask4, a: Self, b: Self) -> Self {
+        F64x4([
+            F64x2::select(mask.0[0], a.0[0], b.0[0]),
+            F64x2::select(mask.0[1], a.0[1], b.0[1]),
+        ])
+    }
+    #[inline(always)]
+    fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
+        let low = F64x2::gather(&mut f);
+        F64x4([low, F64x2::gather(|k| f(k + 2))])
+    }
+    #[inline(always)]
+    fn each(self, mut f: impl FnMut(usize, f64)) {
+        self.0[0].each(&mut f);
+        self.0[1].each(|k, v| f(k + 2, v));
+    }
+}
 
 #[cfg(target_arch = "x86_64")]
 mod imp {
@@ -325,5 +410,32 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn four_lanes_keep_each_lane_in_its_place_with_the_scalar_bits() {
+        // Lane k of a gather is f(k), and `each` hands it back as lane k; every operation
+        // acts lane by lane with the scalar bits (the selection too).
+        let a = [1.5, -0.0, f64::NAN, 1e-310];
+        let b = [0.1, 2.0, 3.0, -7.25];
+        let (x, y) = (F64x4::gather(|k| a[k]), F64x4::gather(|k| b[k]));
+        let mut seen = Vec::new();
+        x.each(|k, v| seen.push((k, v.to_bits())));
+        assert_eq!(
+            seen,
+            (0..4).map(|k| (k, a[k].to_bits())).collect::<Vec<_>>()
+        );
+        let bits = |v: F64x4| v.lanes().map(f64::to_bits);
+        let scalar = |f: &dyn Fn(f64, f64) -> f64| [0, 1, 2, 3].map(|k| f(a[k], b[k]).to_bits());
+        assert_eq!(bits(x + y), scalar(&|p, q| p + q));
+        assert_eq!(bits(x - y), scalar(&|p, q| p - q));
+        assert_eq!(bits(x * y), scalar(&|p, q| p * q));
+        assert_eq!(bits(x / y), scalar(&|p, q| p / q));
+        assert_eq!(bits(-x), scalar(&|p, _| -p));
+        assert_eq!(bits(x.sqrt()), scalar(&|p, _| p.sqrt()));
+        assert_eq!(bits(F64x4::splat(2.5)), [2.5f64.to_bits(); 4]);
+        let pick = |m: Mask4| bits(F64x4::select(m, x, y));
+        assert_eq!(pick(x.gt(y)), scalar(&|p, q| if p > q { p } else { q }));
+        assert_eq!(pick(x.lt(y)), scalar(&|p, q| if p < q { p } else { q }));
     }
 }

@@ -13,12 +13,14 @@
 //! sinks at a steady speed that the pushes undo (measured: mean vy ≈ -0.6 in the settled
 //! shipped pile under `relative_normal_velocity`, a kinetic energy near 150).
 
+use std::ops::Range;
+
 use crate::config::MassModel;
 use crate::contacts::{Contact, Contacts};
 use crate::context::StepContext;
 use crate::geometry::MinImage;
 use crate::geometry::{Geometry, bounce};
-use crate::lanes::{F64x2, Lanes};
+use crate::lanes::{F64x2, F64x4, Lanes};
 use crate::law::{Law, resolve_lanes};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::part::Tally;
@@ -77,10 +79,10 @@ fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
 /// (`RADIUS_MASS`, the seed's model) and whether every disc has radius `uniform_radius`
 /// (`UNIFORM`) fixed, and the walls' corners if any.
 ///
-/// Each segment of a piece (one colour of one block row) is cut at a block boundary into two
-/// halves, which touch disjoint discs (see `contacts`): their contacts go through the law
-/// two at a time, one per lane ([`F64x2`]), with the bits of one at a time. What one half
-/// has left over goes alone.
+/// Each segment of a piece (one colour of one block row) is cut at block boundaries into four
+/// quarters, which touch disjoint discs (see `contacts`): their contacts go through the law
+/// two at a time, one per lane ([`F64x2`]), two such pairs side by side, with the bits of
+/// one at a time.
 fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: bool>(
     contacts: &Contacts,
     p: &mut Particles,
@@ -210,43 +212,65 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     };
     let mut virial = ExactSum::new();
     let list = &contacts.list[..];
-    let indices = |c: &Contact| (c.a as usize, c.b as usize);
-    // One segment: its halves side by side, then what is left of the longer one alone.
+    // The `k`th contacts of runs that touch disjoint discs, one per lane.
+    //
+    // SAFETY (for callers): the runs touch disjoint discs, as for `resolve`.
+    #[inline(always)]
+    unsafe fn side_by_side<L: Lanes>(
+        list: &[Contact],
+        runs: &[Range<usize>],
+        k: usize,
+        discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
+        virial: &mut ExactSum,
+    ) {
+        let pair = |lane: usize| {
+            let contact = &list[runs[lane].start + k];
+            (contact.a as usize, contact.b as usize)
+        };
+        // SAFETY: as the caller promises.
+        unsafe { resolve::<L>(pair, discs, virial) };
+    }
+    let prefetch_ahead = |runs: &[Range<usize>], k: usize| {
+        if PREFETCH {
+            // Contacts touch scattered discs: start loading later ones' discs now.
+            for run in runs {
+                if let Some(ahead) = list.get(run.start + k + PREFETCH_AHEAD / runs.len()) {
+                    prefetch_discs(ahead);
+                }
+            }
+        }
+    };
+    // One segment: its four quarters (whole blocks, so disjoint discs) side by side, one
+    // per lane, each in its own order; as quarters run out, the rest two at a time and the
+    // last alone.
     let segment = |s: usize, virial: &mut ExactSum| {
-        let [first, second] = contacts.halves(s);
-        let paired = first.len().min(second.len());
-        for k in 0..paired {
-            let (one, two) = (&list[first.start + k], &list[second.start + k]);
-            if PREFETCH {
-                // Contacts touch scattered discs: start loading later ones' discs now.
-                for half in [&first, &second] {
-                    if let Some(ahead) = list.get(half.start + k + PREFETCH_AHEAD / 2) {
-                        prefetch_discs(ahead);
+        let mut runs = contacts.quarters(s).concat();
+        loop {
+            // The runs with contacts left first, in their order.
+            runs.sort_by_key(|run| run.is_empty());
+            let live = runs.iter().take_while(|run| !run.is_empty()).count();
+            let lanes = match live {
+                0 => break,
+                1 => 1,
+                2 | 3 => 2,
+                _ => 4,
+            };
+            let runs = &mut runs[..lanes];
+            let steps = runs.iter().map(|run| run.len()).min().unwrap_or(0);
+            for k in 0..steps {
+                prefetch_ahead(runs, k);
+                // SAFETY: one contact of each of `lanes` quarters: disjoint discs.
+                unsafe {
+                    match lanes {
+                        4 => side_by_side::<F64x4>(list, runs, k, &discs, virial),
+                        2 => side_by_side::<F64x2>(list, runs, k, &discs, virial),
+                        _ => side_by_side::<f64>(list, runs, k, &discs, virial),
                     }
                 }
             }
-            let pair = |lane: usize| {
-                if lane == 0 {
-                    indices(one)
-                } else {
-                    indices(two)
-                }
-            };
-            // SAFETY: two contacts of different halves: disjoint discs (see above).
-            unsafe { resolve::<F64x2>(pair, &discs, virial) };
-        }
-        let rest = if first.len() > paired {
-            first.start + paired..first.end
-        } else {
-            second.start + paired..second.end
-        };
-        for k in rest.clone() {
-            if PREFETCH && let Some(ahead) = list.get(k + PREFETCH_AHEAD) {
-                prefetch_discs(ahead);
+            for run in runs {
+                run.start += steps;
             }
-            let contact = &list[k];
-            // SAFETY: one contact at a time.
-            unsafe { resolve::<f64>(|_| indices(contact), &discs, virial) };
         }
     };
     for phase in &contacts.phases {
@@ -285,10 +309,10 @@ struct Discs<'a, R, M> {
     tally: Option<Tally>,
 }
 
-/// The lanes of `v` as an array of up to two.
+/// The lanes of `v` as an array of up to four.
 #[inline(always)]
-fn lane_values<L: Lanes>(v: L) -> [f64; 2] {
-    let mut out = [0.0; 2];
+fn lane_values<L: Lanes>(v: L) -> [f64; 4] {
+    let mut out = [0.0; 4];
     v.each(|k, v| out[k] = v);
     out
 }

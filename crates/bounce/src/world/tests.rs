@@ -350,6 +350,11 @@ fn a_far_pair_that_closes_in_is_found() {
 /// 1,200 discs (radii 0.4–0.6) packed into the lower 50 of a 40-wide box under gravity
 /// (e = 0.7, 4 substeps), on 2 threads; in a periodic box on a floor segment across it.
 fn settling_pile(boundary: &Boundary) -> World {
+    settling_pile_of(boundary, [0.4, 0.6])
+}
+
+/// [`settling_pile`] with radii in `radius`.
+fn settling_pile_of(boundary: &Boundary, radius: [f64; 2]) -> World {
     let config = Config {
         boundary: boundary.clone(),
         gravity: [0.0, -9.81],
@@ -365,7 +370,7 @@ fn settling_pile(boundary: &Boundary) -> World {
     };
     let gas = Gas {
         count: 1200,
-        radius: [0.4, 0.6],
+        radius,
         region: Some(([0.0, 0.0], [40.0, 50.0])),
         speeds: Speeds::Uniform(1.0),
         drift: [0.0, 0.0],
@@ -520,6 +525,84 @@ fn equal_discs_give_the_same_bits_whether_their_radius_is_read_or_known() {
                 assert!(worlds[0].stats().pairs > 0, "{case}");
                 assert_eq!(worlds[0].state_hash(), worlds[1].state_hash(), "{case}");
             }
+        }
+    }
+}
+
+/// The seed's loop over `contacts` in their canonical order, one pair after another on the
+/// current state (walls holding pushed discs); returns the collision virial.
+fn resolve_one_by_one(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> f64 {
+    let min_image = ctx.geometry.min_image();
+    let mut virial = crate::sum::ExactSum::new();
+    for c in &contacts.list {
+        let (a, b) = (c.a as usize, c.b as usize);
+        let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+        let body = |i: usize| crate::law::Body {
+            velocity: [p.vx[i], p.vy[i]],
+            radius: p.radius[i],
+            mass: ctx.law.mass(p.radius[i], p.mass[i]),
+        };
+        let (one, two) = (body(a), body(b));
+        let out = ctx.law.resolve(diff, &one, &two);
+        let impulse = [0, 1].map(|k| {
+            0.5 * (one.mass * (out.v1[k] - one.velocity[k])
+                - two.mass * (out.v2[k] - two.velocity[k]))
+        });
+        virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+        let (mut xa, mut ya) = (p.x[a] + out.push[0], p.y[a] + out.push[1]);
+        let (mut xb, mut yb) = (p.x[b] - out.push[0], p.y[b] - out.push[1]);
+        ctx.geometry.hold(&mut xa, &mut ya, one.radius);
+        ctx.geometry.hold(&mut xb, &mut yb, two.radius);
+        (p.x[a], p.y[a], p.x[b], p.y[b]) = (xa, ya, xb, yb);
+        [p.vx[a], p.vy[a]] = out.v1;
+        [p.vx[b], p.vy[b]] = out.v2;
+    }
+    virial.value()
+}
+
+#[test]
+fn the_solver_lanes_give_the_bits_of_the_seed_loop() {
+    // The solver resolves four runs of contacts (whole blocks, disjoint discs) side by side,
+    // two or one as they run out: the same state and virial, bit for bit, as the seed's loop
+    // over the same contacts one after another. Settling piles of equal and of mixed discs
+    // (dense contacts, long runs), in walls and on a floor in a periodic box, some time in.
+    for boundary in [
+        Boundary::walls([0.0, 0.0], [40.0, 80.0]),
+        Boundary::periodic([0.0, -2.0], [40.0, 80.0]),
+    ] {
+        for equal in [false, true] {
+            let radius = if equal { [0.5, 0.5] } else { [0.4, 0.6] };
+            let mut world = settling_pile_of(&boundary, radius);
+            for _ in 0..300 {
+                world.step(1.0 / 60.0).unwrap();
+            }
+            let case = format!("{boundary:?} equal {equal}");
+            let ctx = StepContext::new(&world.config, 1.0 / 240.0, &world.exec, None);
+            let bp = &world.broadphase;
+            world
+                .contacts
+                .find(bp, broadphase::BANDS, &world.particles, &ctx);
+            let found = world.contacts.list.len();
+            assert!(
+                found > 1000,
+                "{case}: {found} contacts, {} in the step",
+                world.stats().pairs
+            );
+            assert_eq!(bp.uniform_radius().is_some(), equal, "{case}");
+            let mut lanes = world.particles.clone();
+            let virial =
+                crate::resolve::resolve_all(&world.contacts, &mut lanes, &ctx, bp.uniform_radius());
+            let mut seed = world.particles.clone();
+            let seed_virial = resolve_one_by_one(&world.contacts, &mut seed, &ctx);
+            let bits = |p: &Particles| -> Vec<u64> {
+                [&p.x, &p.y, &p.vx, &p.vy]
+                    .iter()
+                    .flat_map(|v| v.iter().map(|v| v.to_bits()))
+                    .collect()
+            };
+            assert_eq!(bits(&lanes), bits(&seed), "{case}");
+            assert_eq!(virial.value().to_bits(), seed_virial.to_bits(), "{case}");
+            assert_ne!(bits(&lanes), bits(&world.particles), "{case}");
         }
     }
 }
