@@ -49,29 +49,25 @@ impl ExactSum {
             self.special += v;
             return;
         }
-        let mut mantissa = bits & ((1 << 52) - 1);
-        // `v = ±mantissa × 2^(position − 1074)`; subnormals have position 0.
-        let position = if exponent == 0 {
-            0
-        } else {
-            mantissa |= 1 << 52;
-            exponent - 1
-        };
+        // `v = ±mantissa × 2^(position − 1074)`; subnormals (exponent 0) have position 0,
+        // as do the smallest normals (exponent 1), with the implicit bit.
+        let mantissa = (bits & ((1 << 52) - 1)) | (u64::from(exponent != 0) << 52);
+        let position = exponent.saturating_sub(1);
         let (lane, shift) = ((position / 32) as usize, position % 32);
         let wide = u128::from(mantissa) << shift;
+        // The sign applied without a branch (terms of either sign come at random): all ones
+        // where negative, so `(piece ^ sign) - sign` is `-piece` there and `piece` else.
+        let sign = -((bits >> 63) as i64);
         let pieces = [
             (wide & 0xffff_ffff) as i64,
             ((wide >> 32) & 0xffff_ffff) as i64,
             (wide >> 64) as i64,
         ];
         let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
-        let negative = bits >> 63 == 1;
-        for (k, piece) in pieces.into_iter().enumerate() {
-            if negative {
-                lanes[lane + k] -= piece;
-            } else {
-                lanes[lane + k] += piece;
-            }
+        // `position < 2046`, so `lane + 2 < 66 < LANES`.
+        let lanes = &mut lanes[lane..lane + 3];
+        for (slot, piece) in lanes.iter_mut().zip(pieces) {
+            *slot += (piece ^ sign) - sign;
         }
         self.adds += 1;
         if self.adds >= ADDS_BEFORE_CARRY {
@@ -286,6 +282,19 @@ mod tests {
         assert_eq!(sum_of(&[-3.5]).value(), -3.5);
         assert_eq!(sum_of(&[f64::MAX, f64::MAX, -f64::MAX]).value(), f64::MAX);
         assert_eq!(sum_of(&[5e-324, 5e-324]).value(), 1e-323);
+        // Across the subnormal boundary, either sign: the smallest normal less the largest
+        // subnormal is the smallest subnormal.
+        let largest_subnormal = f64::MIN_POSITIVE - 5e-324;
+        assert!(largest_subnormal.is_subnormal());
+        assert_eq!(
+            sum_of(&[f64::MIN_POSITIVE, -largest_subnormal]).value(),
+            5e-324
+        );
+        assert_eq!(
+            sum_of(&[-f64::MIN_POSITIVE, largest_subnormal]).value(),
+            -5e-324
+        );
+        assert_eq!(sum_of(&[-5e-324, -f64::MAX, f64::MAX]).value(), -5e-324);
     }
 
     #[test]
