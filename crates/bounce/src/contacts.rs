@@ -60,7 +60,19 @@ impl Contact {
     /// first, keyed by its block. (Slices, not `Particles`: the hot loop keeps them in
     /// registers.)
     #[inline(always)]
-    fn of(id: &[ParticleId], [x, y]: [&[f64]; 2], grid: &OrderGrid, i: usize, j: usize) -> Self {
+    fn of(id: &[ParticleId], xy: [&[f64]; 2], grid: &OrderGrid, i: usize, j: usize) -> Self {
+        Self::keyed(id, xy, i, j, |x, y| grid.key(x, y))
+    }
+
+    /// [`Contact::of`] with the key of the lower-id disc's position given by `key`.
+    #[inline(always)]
+    fn keyed(
+        id: &[ParticleId],
+        [x, y]: [&[f64]; 2],
+        i: usize,
+        j: usize,
+        key: impl FnOnce(f64, f64) -> u64,
+    ) -> Self {
         // Which id is lower is a coin toss, and in a gas the ids are far from cache: a branch
         // on it would mispredict half the time and each flush would wait for the miss.
         let lower_first = id[i] < id[j];
@@ -69,7 +81,7 @@ impl Contact {
             std::hint::select_unpredictable(lower_first, j, i),
         );
         Contact {
-            key: grid.key(x[a], y[a]),
+            key: key(x[a], y[a]),
             ids: (u64::from(id[a].0) << 32) | u64::from(id[b].0),
             a: a as u32,
             b: b as u32,
@@ -128,6 +140,9 @@ struct Presorted {
     pairs: Vec<Pair>,
     /// The blocks: the key their contacts have while in place, and where their pairs end.
     blocks: Vec<(u64, u32)>,
+    /// Each block's span ([`OrderGrid::span`]): a lower-id disc inside it is in place,
+    /// without working out its key.
+    spans: Vec<[f64; 4]>,
     /// Chunks of whole blocks tested in parallel: ranges of `blocks`.
     chunks: Vec<Range<usize>>,
 }
@@ -294,7 +309,8 @@ impl Contacts {
                     // SAFETY: every candidate indexes the current storage of `p` (checked by
                     // `find`: the list was made for exactly these discs).
                     let emit = |_, c| found.push(c);
-                    overlap.max(unsafe { test_case(pairs, p, grid, ctx, uniform, strays, emit) })
+                    let key = |_, x, y| grid.key(x, y);
+                    overlap.max(unsafe { test_case(pairs, p, key, ctx, uniform, strays, emit) })
                 });
             // The blocks these contacts fall in, while they are still in cache.
             (overlap, BlockBounds::of(found))
@@ -393,6 +409,20 @@ impl Contacts {
         if chunk_start < presorted.blocks.len() {
             presorted.chunks.push(chunk_start..presorted.blocks.len());
         }
+        // Blocks share columns and rows: each axis's spans worked out once.
+        let mut columns = std::collections::HashMap::new();
+        let mut rows = std::collections::HashMap::new();
+        presorted.spans.clear();
+        presorted
+            .spans
+            .extend(presorted.blocks.iter().map(|&(key, _)| {
+                let row = wave_of(key) - row_parity_of(key);
+                let [x_lo, x_hi] = *columns
+                    .entry(column_of(key))
+                    .or_insert_with(|| grid.0[0].span(column_of(key)));
+                let [y_lo, y_hi] = *rows.entry(row).or_insert_with(|| grid.0[1].span(row));
+                [x_lo, x_hi, y_lo, y_hi]
+            }));
         presorted.generation = Some(broadphase.generation());
         // The candidates' copies are done with: give their memory back (contacts are
         // fewer than candidates).
@@ -426,18 +456,30 @@ impl Contacts {
             .map_mut(presorted.pairs.len(), &mut work, |chunk, (found, out)| {
                 found.clear();
                 out.clear();
-                let blocks = &presorted.blocks[presorted.chunks[chunk].clone()];
+                let range = presorted.chunks[chunk].clone();
+                let (blocks, spans) = (&presorted.blocks[range.clone()], &presorted.spans[range]);
                 let first = presorted.blocks[..presorted.chunks[chunk].start]
                     .last()
                     .map_or(0, |b| b.1 as usize);
                 let pairs = &presorted.pairs[first..blocks.last().map_or(first, |b| b.1 as usize)];
-                // The contacts come in candidate order: follow the blocks alongside.
-                let mut block = 0;
-                let emit = |k: usize, c: Contact| {
-                    while blocks[block].1 as usize <= first + k {
-                        block += 1;
+                // The contacts come in candidate order: follow the blocks alongside. A disc
+                // inside its block's span has its key without the arithmetic.
+                let block = std::cell::Cell::new(0);
+                let key = |k: usize, x: f64, y: f64| {
+                    let mut b = block.get();
+                    while blocks[b].1 as usize <= first + k {
+                        b += 1;
                     }
-                    if c.key == blocks[block].0 {
+                    block.set(b);
+                    let [x_lo, x_hi, y_lo, y_hi] = spans[b];
+                    if x >= x_lo && x < x_hi && y >= y_lo && y < y_hi {
+                        blocks[b].0
+                    } else {
+                        grid.key(x, y)
+                    }
+                };
+                let emit = |_, c: Contact| {
+                    if c.key == blocks[block.get()].0 {
                         found.push(c);
                     } else {
                         out.push(c);
@@ -445,7 +487,7 @@ impl Contacts {
                 };
                 // SAFETY: the presorted pairs are the current listing's (see `presort`), which
                 // indexes the current storage of `p` (checked by `find`).
-                unsafe { test_case(pairs, p, grid, ctx, uniform, strays, emit) }
+                unsafe { test_case(pairs, p, key, ctx, uniform, strays, emit) }
             });
         let mut max_overlap = overlaps.into_iter().fold(0.0, f64::max);
         far.clear();
@@ -459,7 +501,7 @@ impl Contacts {
                     test_case(
                         &candidates[block][1],
                         p,
-                        grid,
+                        |_, x, y| grid.key(x, y),
                         ctx,
                         uniform,
                         strays,
@@ -787,6 +829,15 @@ fn ordered_bits(v: f64) -> u64 {
     }
 }
 
+/// The `f64` whose [`ordered_bits`] are `u`.
+fn from_ordered_bits(u: u64) -> f64 {
+    if u >> 63 == 1 {
+        f64::from_bits(u & !(1 << 63))
+    } else {
+        f64::from_bits(!u)
+    }
+}
+
 /// [`test`] with the loop for this world's case: one per case, so the common ones (no
 /// minimum image; all radii equal, `uniform`, when the collision distance is one constant
 /// with the same bits; no strays) do no extra work. Pairs with a stray in them are left to
@@ -799,7 +850,7 @@ fn ordered_bits(v: f64) -> u64 {
 unsafe fn test_case(
     candidates: &[Pair],
     p: &Particles,
-    grid: &OrderGrid,
+    key_of: impl FnMut(usize, f64, f64) -> u64,
     ctx: &StepContext,
     uniform: Option<f64>,
     strays: &Strays,
@@ -808,10 +859,10 @@ unsafe fn test_case(
     // SAFETY: the caller's promise.
     unsafe {
         if strays.is_empty() {
-            test_kind(candidates, p, grid, ctx, uniform, |_, _| false, emit)
+            test_kind(candidates, p, key_of, ctx, uniform, |_, _| false, emit)
         } else {
             let skip = |i: usize, j: usize| strays.contains(i) || strays.contains(j);
-            test_kind(candidates, p, grid, ctx, uniform, skip, emit)
+            test_kind(candidates, p, key_of, ctx, uniform, skip, emit)
         }
     }
 }
@@ -824,7 +875,7 @@ unsafe fn test_case(
 unsafe fn test_kind(
     candidates: &[Pair],
     p: &Particles,
-    grid: &OrderGrid,
+    key_of: impl FnMut(usize, f64, f64) -> u64,
     ctx: &StepContext,
     uniform: Option<f64>,
     skip: impl Fn(usize, usize) -> bool,
@@ -841,10 +892,10 @@ unsafe fn test_kind(
     // SAFETY: the caller's promise.
     unsafe {
         match (min_image.is_periodic(), uniform) {
-            (false, Some(d)) => test::<true>(candidates, p, grid, skip, emit, plain, |_, _| d),
-            (true, Some(d)) => test::<true>(candidates, p, grid, skip, emit, image, |_, _| d),
-            (false, None) => test::<false>(candidates, p, grid, skip, emit, plain, pair),
-            (true, None) => test::<false>(candidates, p, grid, skip, emit, image, pair),
+            (false, Some(d)) => test::<true>(candidates, p, key_of, skip, emit, plain, |_, _| d),
+            (true, Some(d)) => test::<true>(candidates, p, key_of, skip, emit, image, |_, _| d),
+            (false, None) => test::<false>(candidates, p, key_of, skip, emit, plain, pair),
+            (true, None) => test::<false>(candidates, p, key_of, skip, emit, image, pair),
         }
     }
 }
@@ -933,7 +984,7 @@ fn sqrt_limit(reach: f64) -> f64 {
 unsafe fn test<const UNIFORM: bool>(
     candidates: &[Pair],
     p: &Particles,
-    grid: &OrderGrid,
+    mut key_of: impl FnMut(usize, f64, f64) -> u64,
     skip: impl Fn(usize, usize) -> bool,
     mut emit: impl FnMut(usize, Contact),
     diff: impl Fn(f64, f64, f64, f64) -> [f64; 2],
@@ -1013,7 +1064,8 @@ unsafe fn test<const UNIFORM: bool>(
                 }
                 max_overlap = max_overlap.max(reach - distance);
             }
-            emit(c * SCREEN + k as usize, Contact::of(id, [x, y], grid, i, j));
+            let k = c * SCREEN + k as usize;
+            emit(k, Contact::keyed(id, [x, y], i, j, |x, y| key_of(k, x, y)));
         }
     }
     if UNIFORM && nearest2 < f64::INFINITY {
@@ -1042,7 +1094,7 @@ impl OrderAxis {
         if self.single {
             return 0;
         }
-        let cell = floor_to_isize((v - self.origin) * self.inv_cell);
+        let cell = self.raw_cell(v);
         let cell = if self.wrap > 0 {
             wrap_index(cell, self.wrap)
         } else {
@@ -1050,6 +1102,54 @@ impl OrderAxis {
             cell.clamp(-HALF_RANGE, HALF_RANGE - 1) + HALF_RANGE
         };
         (cell / 2) as u64
+    }
+
+    /// The cell of `v` before wrapping or clamping: non-decreasing in `v`.
+    #[inline(always)]
+    fn raw_cell(&self, v: f64) -> isize {
+        floor_to_isize((v - self.origin) * self.inv_cell)
+    }
+
+    /// Coordinates `lo..hi` that all lie in block `b` ([`OrderAxis::block`] gives `b` for
+    /// each): those whose raw cell is one of the block's two (wrapped or clamped cells, and
+    /// NaN, are left out: a test against the span may send them to `block` instead).
+    fn span(&self, b: u64) -> [f64; 2] {
+        if self.single {
+            return [f64::NEG_INFINITY, f64::INFINITY];
+        }
+        let first = 2 * b as isize - if self.wrap > 0 { 0 } else { HALF_RANGE };
+        let in_range = if self.wrap > 0 {
+            first + 1 < self.wrap
+        } else {
+            first + 1 < HALF_RANGE - 1
+        };
+        if b > (1 << 31) || !in_range {
+            return [f64::INFINITY, f64::NEG_INFINITY];
+        }
+        [self.first_at(first), self.first_at(first + 2)]
+    }
+
+    /// The smallest `v` (not NaN) whose raw cell is at least `cell` (+∞ if none is).
+    fn first_at(&self, cell: isize) -> f64 {
+        // Bisection over the coordinates in order (`ordered_bits`), where the raw cell
+        // never decreases: `low` below the answer, `high` at or above it.
+        let reaches = |u: u64| self.raw_cell(from_ordered_bits(u)) >= cell;
+        let (mut low, mut high) = (ordered_bits(f64::NEG_INFINITY), ordered_bits(f64::INFINITY));
+        if reaches(low) {
+            return f64::NEG_INFINITY;
+        }
+        if !reaches(high) {
+            return f64::INFINITY;
+        }
+        while high - low > 1 {
+            let middle = low + (high - low) / 2;
+            if reaches(middle) {
+                high = middle;
+            } else {
+                low = middle;
+            }
+        }
+        from_ordered_bits(high)
     }
 }
 
@@ -1128,6 +1228,15 @@ impl OrderGrid {
     #[inline]
     fn key(&self, x: f64, y: f64) -> u64 {
         block_key(self.0[0].block(x), self.0[1].block(y))
+    }
+
+    /// Positions that all have key `key`: `[x_lo, x_hi, y_lo, y_hi]`, half-open (see
+    /// [`OrderAxis::span`]).
+    #[cfg(test)]
+    fn span(&self, key: u64) -> [f64; 4] {
+        let row = wave_of(key) - row_parity_of(key);
+        let ([x_lo, x_hi], [y_lo, y_hi]) = (self.0[0].span(column_of(key)), self.0[1].span(row));
+        [x_lo, x_hi, y_lo, y_hi]
     }
 }
 
@@ -1279,6 +1388,51 @@ mod tests {
                 let width = 2.0 / grid.0[axis].inv_cell;
                 assert_eq!(grid.0[axis].block(start + width - 1e-9), block);
                 assert_ne!(grid.0[axis].block(start + width + 1e-9), block);
+            }
+        }
+    }
+
+    #[test]
+    fn a_block_span_holds_exactly_its_blocks_positions() {
+        // Around each point, open, in walls and periodic, near the origin and far from it:
+        // the point lies in its block's span; the span's first point and the last before its
+        // end have the block's key, the points just outside do not, nor does one in between
+        // give another key.
+        for boundary in [
+            Boundary::Open,
+            Boundary::walls([-3.0, 1e6], [40.0, 1e6 + 50.0]),
+            Boundary::periodic([-5.0, -7.0], [95.0, 93.0]),
+        ] {
+            let config = Config {
+                boundary: boundary.clone(),
+                ..Config::default()
+            };
+            let grid = order_grid(&config, 0.37);
+            let mut next = random(5);
+            for _ in 0..300 {
+                let u = |r: u64| r as f64 / (1u64 << 31) as f64;
+                let (x, y) = match boundary {
+                    Boundary::Walls { .. } => (-3.0 + 43.0 * u(next()), 1e6 + 50.0 * u(next())),
+                    _ => (-5.0 + 100.0 * u(next()), -7.0 + 100.0 * u(next())),
+                };
+                let key = grid.key(x, y);
+                let [x_lo, x_hi, y_lo, y_hi] = grid.span(key);
+                let case = format!("{boundary:?} ({x}, {y})");
+                assert!(x_lo <= x && x < x_hi && y_lo <= y && y < y_hi, "{case}");
+                for (a, b) in [(x_lo, y_lo), (x_hi.next_down(), y_hi.next_down())] {
+                    assert_eq!(grid.key(a, b), key, "{case}");
+                }
+                for (a, b) in [
+                    (x_lo.next_down(), y),
+                    (x_hi, y),
+                    (x, y_lo.next_down()),
+                    (x, y_hi),
+                ] {
+                    assert_ne!(grid.key(a, b), key, "{case}");
+                }
+                let t = u(next());
+                let inside = (x_lo + t * (x_hi - x_lo)).min(x_hi.next_down());
+                assert_eq!(grid.key(inside, y), key, "{case}");
             }
         }
     }
