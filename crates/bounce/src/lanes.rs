@@ -20,6 +20,8 @@ pub trait Lanes:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
+    /// How many lanes.
+    const LANES: usize;
     /// Per-lane truth values.
     type Mask: Copy;
     /// Every lane `v`.
@@ -39,6 +41,7 @@ pub trait Lanes:
 }
 
 impl Lanes for f64 {
+    const LANES: usize = 1;
     type Mask = bool;
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -121,6 +124,7 @@ impl Neg for F64x4 {
 }
 
 impl Lanes for F64x4 {
+    const LANES: usize = 4;
     type Mask = Mask4;
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -229,6 +233,7 @@ mod imp {
     }
 
     impl Lanes for F64x2 {
+        const LANES: usize = 2;
         type Mask = Mask2;
         #[inline(always)]
         fn splat(v: f64) -> Self {
@@ -331,6 +336,7 @@ mod imp {
     }
 
     impl Lanes for F64x2 {
+        const LANES: usize = 2;
         type Mask = Mask2;
         #[inline(always)]
         fn splat(v: f64) -> Self {

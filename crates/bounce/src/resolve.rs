@@ -145,7 +145,14 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             walls,
             tally,
         } = discs;
-        let (a, b) = (|k| pair(k).0, |k| pair(k).1);
+        // The lanes' indices read once: the disc stores below go through raw pointers, which
+        // the compiler cannot tell apart from the contact list, so it would read them anew
+        // after each.
+        let (mut first, mut second) = ([0usize; 4], [0usize; 4]);
+        for lane in 0..L::LANES {
+            (first[lane], second[lane]) = pair(lane);
+        }
+        let (a, b) = (|k: usize| first[k], |k: usize| second[k]);
         // SAFETY: as the caller promises.
         unsafe {
             let (xa, ya) = (L::gather(|k| x.get(a(k))), L::gather(|k| y.get(a(k))));
