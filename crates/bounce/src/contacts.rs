@@ -940,18 +940,18 @@ fn merge_sorted(
     debug_assert!(rest.is_empty() && moved_start == moved.len());
     ctx.exec
         .for_each_mut(total, &mut pieces, |_, (out, run, moved)| {
-            let (mut r, mut m) = (0, 0);
-            for slot in out.iter_mut() {
-                let take_moved =
-                    m < moved.len() && (r == run.len() || order(&moved[m]) < order(&run[r]));
-                if take_moved {
-                    slot.write(moved[m]);
-                    m += 1;
-                } else {
-                    slot.write(run[r]);
-                    r += 1;
-                }
+            // Moved contacts are few: each finds its place in the run by bisection, and the
+            // run's contacts between two places are copied as one block (most pieces have
+            // none, and are one copy).
+            let (mut r, mut at) = (0, 0);
+            for m in moved.iter() {
+                let place = r + run[r..].partition_point(|c| order(c) < order(m));
+                let next = at + place - r;
+                out[at..next].write_copy_of_slice(&run[r..place]);
+                out[next].write(*m);
+                (r, at) = (place, next + 1);
             }
+            out[at..].write_copy_of_slice(&run[r..]);
         });
     // SAFETY: the pieces partition the first `total` slots, and each piece's loop wrote
     // every one of its slots (it holds exactly its run and its moved contacts).

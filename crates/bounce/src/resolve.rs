@@ -251,7 +251,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     // per lane, each in its own order; as quarters run out, the rest two at a time and the
     // last alone.
     let segment = |s: usize, virial: &mut ExactSum| {
-        let mut runs = contacts.quarters(s).concat();
+        // (An array, not a `Vec`: a gas's segments hold a contact or two, and an allocation
+        // per segment cost more than resolving them.)
+        let [[q0, q1], [q2, q3]] = contacts.quarters(s);
+        let mut runs = [q0, q1, q2, q3];
         loop {
             // The runs with contacts left first, in their order.
             runs.sort_by_key(|run| run.is_empty());
