@@ -16,8 +16,8 @@ pub(crate) const CHUNK: usize = 4096;
 /// Work below this size (about one unit per disc) runs on the calling thread by default:
 /// waking the pool costs more than it saves. Results never depend on where work runs.
 /// (A world this large runs its whole step on the pool, see [`Installer`]; with the
-/// hand-over gone, 8,192 discs are worth sharing: 2 threads made the 10k gas's step 10 %
-/// faster and the 30k gas's 22 %.)
+/// hand-over gone, 8,192 discs are worth sharing: on 2 threads the 30k gas's step is 22 %
+/// faster, the 20k's about 8 %, and the 10k breaks even; see BENCHMARKS.md, stops 29–30.)
 pub const DEFAULT_PARALLEL_MIN_WORK: usize = 8_192;
 
 /// Where the step's work runs: the calling thread, or a rayon pool of a fixed size.
