@@ -166,7 +166,7 @@ mod imp {
     //! SSE2, which every x86-64 processor has.
     use super::Lanes;
     use std::arch::x86_64::*;
-    use std::ops::{Add, Div, Mul, Neg, Sub};
+    use std::ops::{Add, BitOr, Div, Mul, Neg, Sub};
 
     /// Two `f64` lanes.
     #[derive(Clone, Copy, Debug)]
@@ -194,14 +194,38 @@ mod imp {
         }
     }
 
+    impl F64x2 {
+        /// `self >= other` per lane (false where either is NaN).
+        #[inline(always)]
+        pub fn ge(self, other: Self) -> Mask2 {
+            // SAFETY: SSE2 (ordered: false with NaN).
+            Mask2(unsafe { _mm_cmpge_pd(self.0, other.0) })
+        }
+    }
+
     impl Mask2 {
         /// Both lanes' truth values.
-        #[cfg(test)]
         #[inline(always)]
         pub fn lanes(self) -> [bool; 2] {
             // SAFETY: SSE2.
             let bits = unsafe { _mm_movemask_pd(self.0) };
             [bits & 1 != 0, bits & 2 != 0]
+        }
+
+        /// Whether either lane holds.
+        #[inline(always)]
+        pub fn any(self) -> bool {
+            // SAFETY: SSE2.
+            unsafe { _mm_movemask_pd(self.0) != 0 }
+        }
+    }
+
+    impl BitOr for Mask2 {
+        type Output = Mask2;
+        #[inline(always)]
+        fn bitor(self, other: Mask2) -> Mask2 {
+            // SAFETY: SSE2.
+            Mask2(unsafe { _mm_or_pd(self.0, other.0) })
         }
     }
 
@@ -278,7 +302,7 @@ mod imp {
 mod imp {
     //! Plain arrays elsewhere (the compiler may still pair the operations).
     use super::Lanes;
-    use std::ops::{Add, Div, Mul, Neg, Sub};
+    use std::ops::{Add, BitOr, Div, Mul, Neg, Sub};
 
     /// Two `f64` lanes.
     #[derive(Clone, Copy, Debug)]
@@ -302,12 +326,33 @@ mod imp {
         }
     }
 
+    impl F64x2 {
+        /// `self >= other` per lane (false where either is NaN).
+        #[inline(always)]
+        pub fn ge(self, other: Self) -> Mask2 {
+            Mask2([self.0[0] >= other.0[0], self.0[1] >= other.0[1]])
+        }
+    }
+
     impl Mask2 {
         /// Both lanes' truth values.
-        #[cfg(test)]
         #[inline(always)]
         pub fn lanes(self) -> [bool; 2] {
             self.0
+        }
+
+        /// Whether either lane holds.
+        #[inline(always)]
+        pub fn any(self) -> bool {
+            self.0[0] || self.0[1]
+        }
+    }
+
+    impl BitOr for Mask2 {
+        type Output = Mask2;
+        #[inline(always)]
+        fn bitor(self, other: Mask2) -> Mask2 {
+            Mask2([self.0[0] || other.0[0], self.0[1] || other.0[1]])
         }
     }
 
