@@ -143,12 +143,24 @@ fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
         .zip(v.chunks(16 * CHUNK))
         .collect();
     exec.map_mut(v.len(), &mut chunks, |_, (out, v)| {
-        let mut largest = 0.0f64;
-        for (o, &v) in out.iter_mut().zip(v.iter()) {
-            *o = v as f32;
-            largest = largest.max(v.abs());
+        // Four running maxima, not one: each `max` waits on the last, and one chain of them
+        // was the whole loop's time. A maximum is exact, so any grouping gives the same
+        // bits; NaN is skipped (as `f64::max` skips it).
+        let max = |acc: f64, v: f64| if v > acc { v } else { acc };
+        let mut largest = [0.0f64; 4];
+        let (quads, rest) = v.as_chunks::<4>();
+        let (out_quads, out_rest) = out.as_chunks_mut::<4>();
+        for (o, v) in out_quads.iter_mut().zip(quads) {
+            for k in 0..4 {
+                o[k] = v[k] as f32;
+                largest[k] = max(largest[k], v[k].abs());
+            }
         }
-        largest
+        for (o, &v) in out_rest.iter_mut().zip(rest) {
+            *o = v as f32;
+            largest[0] = max(largest[0], v.abs());
+        }
+        largest.into_iter().fold(0.0, max)
     })
     .into_iter()
     .fold(0.0, f64::max)
@@ -201,5 +213,34 @@ mod tests {
         // Fast ones: 4 substeps of travel per allowance, capped at the largest diameter.
         assert_eq!(Skin::Stride(0.2).width(&law, 0.5, 2.0), 4.0 * 0.2 / 0.49);
         assert_eq!(Skin::Stride(10.0).width(&law, 0.5, 2.0), 4.0);
+    }
+
+    #[test]
+    fn the_f32_copy_keeps_the_largest_magnitude_of_any_length() {
+        // Lengths around the four-way split and past a 16-chunk piece, the largest magnitude
+        // in each place (a negative one too), with NaN (skipped) and -0.0: the same as one
+        // running `f64::max`, on one thread and two.
+        for threads in [1, 2] {
+            let mut exec = Executor::new(threads).unwrap();
+            exec.min_work = 0;
+            for len in [0, 1, 3, 4, 5, 7, 8, 16 * CHUNK + 5] {
+                for top in 0..len.min(9) {
+                    let mut v: Vec<f64> =
+                        (0..len).map(|k| (k as f64 * 0.37).sin() * 10.0).collect();
+                    v[top] = if top % 2 == 0 { -1e3 } else { 1e3 };
+                    if len > 2 {
+                        v[(top + 1) % len] = f64::NAN;
+                        v[(top + 2) % len] = -0.0;
+                    }
+                    let mut out = Vec::new();
+                    let largest = to_f32(&v, &mut out, &exec);
+                    let expected = v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    assert_eq!(largest.to_bits(), expected.to_bits(), "{len} {top}");
+                    let copied: Vec<u32> = v.iter().map(|&v| (v as f32).to_bits()).collect();
+                    let got: Vec<u32> = out.iter().map(|v| v.to_bits()).collect();
+                    assert_eq!(got, copied, "{len} {top}");
+                }
+            }
+        }
     }
 }
