@@ -76,14 +76,17 @@ impl LevelGrid {
     /// The (clamped) cell coordinate of `v` along `axis`.
     #[inline(always)]
     pub(super) fn coord(&self, v: f64, axis: usize) -> usize {
-        let c = floor_to_isize((v - self.origin[axis]) * self.inv_cell[axis]);
-        // A periodic coordinate wraps, since an overlap push can leave a centre a little
-        // outside the box.
+        let t = (v - self.origin[axis]) * self.inv_cell[axis];
         let n = self.n[axis] as isize;
         if self.wrap {
-            wrap_index(c, n) as usize
+            // A periodic coordinate wraps, since an overlap push can leave a centre a little
+            // outside the box.
+            wrap_index(floor_to_isize(t), n) as usize
         } else {
-            c.clamp(0, n - 1) as usize
+            // Clamped before it is an integer: on `[0, n - 1]` truncation is the floor, below
+            // it both give cell 0, above it cell `n - 1`, and NaN goes to 0 as before. No
+            // branch, and no saturating conversion: the binning's keys vectorise.
+            t.max(0.0).min((n - 1) as f64) as usize
         }
     }
 
@@ -431,6 +434,50 @@ fn spread(coords: &[f64], level: usize, discs: &Discs) -> (f64, f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_clamped_coordinate_is_the_floor_clamped() {
+        // Around every cell edge (a few units in the last place either side), far outside,
+        // at the infinities and NaN: the same cell as the floor clamped to the grid.
+        let grid = |wrap| LevelGrid {
+            origin: [-3.25, 0.0],
+            inv_cell: [1.0 / 0.7, 1.0],
+            n: [9, 1],
+            wrap,
+            cell_offset: 0,
+            max_radius: 0.5,
+            pairwise: false,
+            forward: Vec::new(),
+        };
+        let g = grid(false);
+        let by_floor = |v: f64| {
+            let c = floor_to_isize((v - g.origin[0]) * g.inv_cell[0]);
+            c.clamp(0, g.n[0] as isize - 1) as usize
+        };
+        let mut values = vec![
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e300,
+            -1e300,
+            -0.0,
+        ];
+        for edge in -3..=12 {
+            let mut v = g.origin[0] + edge as f64 * 0.7;
+            for _ in 0..4 {
+                v = v.next_down();
+            }
+            for _ in 0..8 {
+                values.push(v);
+                v = v.next_up();
+            }
+        }
+        for v in values {
+            assert_eq!(g.coord(v, 0), by_floor(v), "{v}");
+        }
+        // A periodic grid still wraps.
+        assert_eq!(grid(true).coord(-3.25 - 0.1, 0), 8);
+    }
 
     #[test]
     fn the_bounds_give_the_levels_of_the_loop() {

@@ -43,7 +43,21 @@ pub(super) fn counting_sort(
         exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
             let base = *c * CHUNK;
             let (x, y) = (&x[base..base + keys.len()], &y[base..base + keys.len()]);
-            if level_of.is_empty() {
+            if level_of.is_empty() && !grids[0].wrap {
+                // One walled or open grid, the common case: `LevelGrid::coord`'s clamp with
+                // its constants in registers and 32-bit cells (the grid has fewer than 2^32),
+                // a loop the compiler can run two discs at a time.
+                let g = &grids[0];
+                let [ox, oy] = g.origin;
+                let [ix, iy] = g.inv_cell;
+                let (top_x, top_y) = ((g.n[0] - 1) as f64, (g.n[1] - 1) as f64);
+                let (nx, offset) = (g.n[0] as u32, g.cell_offset as u32);
+                for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
+                    let cx = ((x - ox) * ix).max(0.0).min(top_x) as u32;
+                    let cy = ((y - oy) * iy).max(0.0).min(top_y) as u32;
+                    *key = offset + cy * nx + cx;
+                }
+            } else if level_of.is_empty() {
                 let g = &grids[0];
                 for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
                     *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
@@ -106,17 +120,16 @@ mod tests {
     use crate::law::Law;
     use std::cell::RefCell;
 
-    #[test]
-    fn the_sort_is_stable_and_groups_cells() {
+    /// The 4×4 grid of cells of 1 (radius 0.5, no skin) over a walled box of side 4, for
+    /// discs at `x`, `y`, and its levels.
+    fn walled_grid(x: &[f64], y: &[f64]) -> (LevelGrid, Vec<Level>, Vec<u8>) {
         let config = Config {
             boundary: crate::Boundary::walls([0.0, 0.0], [4.0, 4.0]),
             ..Config::default()
         };
         let exec = Executor::default();
         let ctx = StepContext::new(&config, 0.1, &exec, None);
-        let x = [3.5, 0.5, 3.6, 0.6, 2.0];
-        let y = [0.5, 0.5, 0.5, 3.5, 0.5];
-        let radius = [0.5; 5];
+        let radius = vec![0.5; x.len()];
         let mut level_of = Vec::new();
         let (levels, _) = super::super::levels::assign(&radius, &Law::new(&config), &mut level_of);
         let scratch = RefCell::new(Vec::new());
@@ -124,11 +137,19 @@ mod tests {
             level_of: &level_of,
             scratch: &scratch,
         };
-        // Cells of 1 + 0 skin: a 4×4 grid.
         let extent = ctx.geometry.grid_extent();
         let grid =
-            super::super::levels::level_grid([&x, &y], extent, &ctx, 0.0, levels[0], 0, &discs);
+            super::super::levels::level_grid([x, y], extent, &ctx, 0.0, levels[0], 0, &discs);
         assert_eq!(grid.n, [4, 4]);
+        (grid, levels, level_of)
+    }
+
+    #[test]
+    fn the_sort_is_stable_and_groups_cells() {
+        let exec = Executor::default();
+        let x = [3.5, 0.5, 3.6, 0.6, 2.0];
+        let y = [0.5, 0.5, 0.5, 3.5, 0.5];
+        let (grid, levels, level_of) = walled_grid(&x, &y);
         let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; 5]);
         let grids = [grid];
         counting_sort(
@@ -150,5 +171,51 @@ mod tests {
         blocks(&grids, &levels, &mut out);
         assert_eq!(out.len(), 1);
         assert_eq!((out[0].x.clone(), out[0].y.clone()), (0..4, 0..4));
+    }
+
+    #[test]
+    fn the_keys_are_the_clamped_cells_of_any_position() {
+        // Positions at and a unit in the last place around every cell edge, outside the box,
+        // infinite and NaN: the sort's keys (its own loop for one walled grid) are the cells
+        // `LevelGrid::coord` gives.
+        let mut values = vec![
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -1e300,
+            1e300,
+            -0.0,
+        ];
+        for edge in -1..=5 {
+            let v = edge as f64;
+            values.extend([v.next_down(), v, v.next_up()]);
+        }
+        let x: Vec<f64> = values
+            .iter()
+            .flat_map(|&v| values.iter().map(move |_| v))
+            .collect();
+        let y: Vec<f64> = values.iter().flat_map(|_| values.iter().copied()).collect();
+        let (grid, _, level_of) = walled_grid(&x, &y);
+        assert!(level_of.is_empty() && !grid.wrap);
+        let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; x.len()]);
+        let exec = Executor::default();
+        let grids = [grid];
+        counting_sort(
+            &grids,
+            &level_of,
+            &x,
+            &y,
+            &mut keys,
+            &mut cell_start,
+            &mut order,
+            &exec,
+        );
+        let g = &grids[0];
+        for i in 0..x.len() {
+            let cell = g.cell_index(g.coord(x[i], 0), g.coord(y[i], 1));
+            assert_eq!(keys[i] as usize, cell, "({}, {})", x[i], y[i]);
+        }
+        // Each corner and edge of the grid was met.
+        assert!(keys.contains(&0) && keys.contains(&15) && keys.contains(&3) && keys.contains(&12));
     }
 }
