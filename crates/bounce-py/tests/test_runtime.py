@@ -40,7 +40,8 @@ def test_other_python_threads_run_during_a_long_step():
     try:
         start = len(ticks)
         begin = time.perf_counter()
-        world.step(100)
+        # Long enough to count ticks in on a fast machine (100 steps took 0.1 s here).
+        world.step(400)
         elapsed = time.perf_counter() - begin
         during = len(ticks) - start
     finally:
