@@ -238,6 +238,31 @@ struct ChunkMoved {
     strays: Option<Vec<u32>>,
 }
 
+impl ChunkMoved {
+    /// What a chunk starting at disc `base` measured: its wall impulse, its largest squared
+    /// displacement (all discs), that of the discs kept, its largest squared speed, and its
+    /// strays' places in it (none past the cap: then the list is made anew, and no disc can
+    /// be said to be within less than the largest displacement).
+    fn new(
+        base: usize,
+        impulse: WallSums,
+        [max_displacement2, max_kept2, max_speed2]: [f64; 3],
+        strays: Option<&[u32]>,
+    ) -> Self {
+        ChunkMoved {
+            impulse,
+            max_displacement2,
+            max_kept2: if strays.is_some() {
+                max_kept2
+            } else {
+                max_displacement2
+            },
+            max_speed2,
+            strays: strays.map(|strays| strays.iter().map(|&k| base as u32 + k).collect()),
+        }
+    }
+}
+
 impl<'r> Pass<'r> {
     /// The pass over the chunks, with the boundary and the reference check chosen once;
     /// per chunk the wall impulse, the largest squared displacements and speed, the strays.
@@ -348,25 +373,13 @@ impl<'r> Pass<'r> {
             strays[stray_count.min(CHUNK_STRAYS)] = k as u32;
             stray_count += strayed as usize;
         }
-        let strays = (stray_count <= CHUNK_STRAYS).then(|| {
-            strays[..stray_count]
-                .iter()
-                .map(|&k| *base as u32 + k)
-                .collect()
-        });
-        // Too many strays: the list is made anew.
-        let max_kept2 = if strays.is_some() {
-            max_kept2
-        } else {
-            max_displacement2
-        };
-        ChunkMoved {
+        let strays = (stray_count <= CHUNK_STRAYS).then(|| &strays[..stray_count]);
+        ChunkMoved::new(
+            *base,
             impulse,
-            max_displacement2,
-            max_kept2,
-            max_speed2,
+            [max_displacement2, max_kept2, max_speed2],
             strays,
-        }
+        )
     }
 
     /// [`Pass::chunk`] for plain (not periodic) displacements from `(rx, ry)`, two discs at
@@ -494,25 +507,13 @@ impl<'r> Pass<'r> {
                 _ => overflowed = true,
             }
         }
-        let strays = (!overflowed).then(|| {
-            strays[..stray_count]
-                .iter()
-                .map(|&k| base as u32 + k)
-                .collect()
-        });
-        // Too many strays: the list is made anew.
-        let max_kept2 = if strays.is_some() {
-            max_kept2
-        } else {
-            max_displacement2
-        };
-        ChunkMoved {
+        let strays = (!overflowed).then(|| &strays[..stray_count]);
+        ChunkMoved::new(
+            base,
             impulse,
-            max_displacement2,
-            max_kept2,
-            max_speed2,
+            [max_displacement2, max_kept2, max_speed2],
             strays,
-        }
+        )
     }
 }
 

@@ -144,24 +144,35 @@ mod tests {
         (grid, levels, level_of)
     }
 
-    #[test]
-    fn the_sort_is_stable_and_groups_cells() {
+    /// The counting sort's keys, cell starts and order for discs at `x`, `y`.
+    fn sorted(
+        grids: &[LevelGrid],
+        level_of: &[u8],
+        x: &[f64],
+        y: &[f64],
+    ) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; x.len()]);
         let exec = Executor::default();
-        let x = [3.5, 0.5, 3.6, 0.6, 2.0];
-        let y = [0.5, 0.5, 0.5, 3.5, 0.5];
-        let (grid, levels, level_of) = walled_grid(&x, &y);
-        let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; 5]);
-        let grids = [grid];
         counting_sort(
-            &grids,
-            &level_of,
-            &x,
-            &y,
+            grids,
+            level_of,
+            x,
+            y,
             &mut keys,
             &mut cell_start,
             &mut order,
             &exec,
         );
+        (keys, cell_start, order)
+    }
+
+    #[test]
+    fn the_sort_is_stable_and_groups_cells() {
+        let x = [3.5, 0.5, 3.6, 0.6, 2.0];
+        let y = [0.5, 0.5, 0.5, 3.5, 0.5];
+        let (grid, levels, level_of) = walled_grid(&x, &y);
+        let grids = [grid];
+        let (_, cell_start, order) = sorted(&grids, &level_of, &x, &y);
         // Row 0: cells 0 (disc 1), 2 (disc 4), 3 (discs 0 then 2, in storage order); row 3:
         // cell 12 (disc 3).
         assert_eq!(order, vec![1, 4, 0, 2, 3]);
@@ -197,19 +208,8 @@ mod tests {
         let y: Vec<f64> = values.iter().flat_map(|_| values.iter().copied()).collect();
         let (grid, _, level_of) = walled_grid(&x, &y);
         assert!(level_of.is_empty() && !grid.wrap);
-        let (mut cell_start, mut order, mut keys) = (Vec::new(), Vec::new(), vec![0; x.len()]);
-        let exec = Executor::default();
         let grids = [grid];
-        counting_sort(
-            &grids,
-            &level_of,
-            &x,
-            &y,
-            &mut keys,
-            &mut cell_start,
-            &mut order,
-            &exec,
-        );
+        let (keys, _, _) = sorted(&grids, &level_of, &x, &y);
         let g = &grids[0];
         for i in 0..x.len() {
             let cell = g.cell_index(g.coord(x[i], 0), g.coord(y[i], 1));
