@@ -210,8 +210,18 @@ fn store_changed(slot: &mut f64, new: f64) {
 /// NaN, which holds for the pass's maxima, started at zero): one `maxsd` on the loop's
 /// dependency chain instead of `f64::max`'s NaN blend.
 #[inline(always)]
-fn max_skipping_nan(acc: f64, v: f64) -> f64 {
+pub(crate) fn max_skipping_nan(acc: f64, v: f64) -> f64 {
     if v > acc { v } else { acc }
+}
+
+/// The squared distance of a disc at `(x, y)` from its reference, the `k`th of `rx`, `ry`,
+/// outside a periodic box (the plain difference).
+#[inline(always)]
+fn plain_displacement2<'a>(rx: &'a [f32], ry: &'a [f32]) -> impl Fn(usize, f64, f64) -> f64 + 'a {
+    move |k, x, y| {
+        let (dx, dy) = (x - rx[k] as f64, y - ry[k] as f64);
+        dx * dx + dy * dy
+    }
 }
 
 /// A chunk with more strays than this (of [`CHUNK`] discs) rebuilds the list: strays are
@@ -277,16 +287,14 @@ impl<'r> Pass<'r> {
         let n = chunks.iter().map(|c| c.x.len()).sum();
         let min_image = self.min_image;
         match (self.reference, inner) {
-            (Some(reference), _) if min_image.is_periodic() => {
+            (Some(reference), Some(inner)) if !min_image.is_periodic() => {
+                exec.map_mut(n, chunks, |_, chunk| {
+                    self.chunk_in_pairs(chunk, &boundary, inner, reference)
+                })
+            }
+            (Some(reference), _) => {
                 let image = move |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
                 self.run_displaced(exec, chunks, &boundary, reference, image)
-            }
-            (Some(reference), Some(inner)) => exec.map_mut(n, chunks, |_, chunk| {
-                self.chunk_in_pairs(chunk, &boundary, inner, reference)
-            }),
-            (Some(reference), None) => {
-                let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
-                self.run_displaced(exec, chunks, &boundary, reference, plain)
             }
             (None, _) => exec.map_mut(n, chunks, |_, chunk| {
                 self.chunk(chunk, &boundary, |_, _, _| 0.0)
@@ -294,9 +302,9 @@ impl<'r> Pass<'r> {
         }
     }
 
-    /// [`Pass::run`] with reference positions `(rx, ry)`: each chunk measures displacements
-    /// from its slice of them, `diff` giving position minus reference (the minimum image in
-    /// a periodic box, the plain difference else: chosen once per pass).
+    /// [`Pass::run`] with reference positions `(rx, ry)`, one disc at a time (a periodic
+    /// box): each chunk measures displacements from its slice of them, `diff` giving
+    /// position minus reference.
     fn run_displaced(
         &self,
         exec: &Executor,
@@ -477,11 +485,8 @@ impl<'r> Pass<'r> {
                 vy: &mut vy[paired..],
                 image: &mut image[paired..],
             };
-            let (rx, ry) = (&rx[paired..], &ry[paired..]);
-            self.chunk(&mut rest, &boundary, |k, x, y| {
-                let (dx, dy) = (x - rx[k] as f64, y - ry[k] as f64);
-                dx * dx + dy * dy
-            })
+            let displacement2 = plain_displacement2(&rx[paired..], &ry[paired..]);
+            self.chunk(&mut rest, &boundary, displacement2)
         });
         // Maxima are exact, so lanes and the last disc combine in any order.
         let fold = |acc: F64x2| {
@@ -660,6 +665,18 @@ mod tests {
         }
     }
 
+    /// One chunk of all the discs `[x, y, vx, vy]`, with their image counts.
+    fn chunk_of<'a>([x, y, vx, vy]: &'a mut [Vec<f64>; 4], image: &'a mut [[i32; 2]]) -> Chunk<'a> {
+        Chunk {
+            base: 0,
+            x,
+            y,
+            vx,
+            vy,
+            image,
+        }
+    }
+
     #[test]
     fn the_pass_in_pairs_gives_the_scalar_bits() {
         // Discs moving under gravity in a walled box, many crossing a wall, one with a NaN
@@ -697,7 +714,7 @@ mod tests {
         ] {
             // Within 0.18 of their references but for the far ones (the last disc among
             // them) and the flung one: offsets 0.02, moves 0.12, wall pushes 0.05.
-            let (mut x, mut y) = (uniform(0.2, 9.8, len), uniform(0.2, 9.8, len));
+            let (x, y) = (uniform(0.2, 9.8, len), uniform(0.2, 9.8, len));
             let (mut vx, mut vy) = (uniform(-4.0, 4.0, len), uniform(-4.0, 4.0, len));
             (vx[3], vy[8]) = (f64::NAN, 1e300);
             let offsets = uniform(-0.02, 0.02, len);
@@ -717,62 +734,39 @@ mod tests {
                 reference: Some((&rx, &ry)),
                 stray2,
             };
+            let mut image = vec![[0i32; 2]; len];
+            let displacement2 = plain_displacement2(&rx, &ry);
+            let mut scalar = [x, y, vx, vy];
+            let mut paired = scalar.clone();
             // The allowance: exactly the largest displacement of the near discs, so that
             // disc strays too (at the allowance is past it).
             let stray2 = {
-                let (mut x, mut y) = (x.clone(), y.clone());
-                let (mut vx, mut vy) = (vx.clone(), vy.clone());
-                let mut image = vec![[0i32; 2]; len];
-                let mut dry = Chunk {
-                    base: 0,
-                    x: &mut x,
-                    y: &mut y,
-                    vx: &mut vx,
-                    vy: &mut vy,
-                    image: &mut image,
-                };
-                let near =
-                    pass_with(allowance * allowance).chunk(&mut dry, &boundary, |k, x, y| {
-                        let (dx, dy) = (x - rx[k] as f64, y - ry[k] as f64);
-                        dx * dx + dy * dy
-                    });
+                let mut dry = scalar.clone();
+                let mut dry_image = image.clone();
+                let near = pass_with(allowance * allowance).chunk(
+                    &mut chunk_of(&mut dry, &mut dry_image),
+                    &boundary,
+                    &displacement2,
+                );
                 near.max_kept2
             };
             assert!(stray2 > 0.01 && stray2 < allowance * allowance);
             let pass = pass_with(stray2);
-            let mut image = vec![[0i32; 2]; len];
-            let mut copies = (x.clone(), y.clone(), vx.clone(), vy.clone(), image.clone());
-            let mut scalar = Chunk {
-                base: 0,
-                x: &mut x,
-                y: &mut y,
-                vx: &mut vx,
-                vy: &mut vy,
-                image: &mut image,
-            };
-            let one = pass.chunk(&mut scalar, &boundary, |k, x, y| {
-                let (dx, dy) = (x - rx[k] as f64, y - ry[k] as f64);
-                dx * dx + dy * dy
-            });
-            let (x2, y2, vx2, vy2, image2) = &mut copies;
-            let mut paired = Chunk {
-                base: 0,
-                x: x2,
-                y: y2,
-                vx: vx2,
-                vy: vy2,
-                image: image2,
-            };
-            let two =
-                pass.chunk_in_pairs(&mut paired, &boundary, (inner_min, inner_max), (&rx, &ry));
+            let mut paired_image = image.clone();
+            let one = pass.chunk(
+                &mut chunk_of(&mut scalar, &mut image),
+                &boundary,
+                &displacement2,
+            );
+            let two = pass.chunk_in_pairs(
+                &mut chunk_of(&mut paired, &mut paired_image),
+                &boundary,
+                (inner_min, inner_max),
+                (&rx, &ry),
+            );
             let case = format!("{len} discs, {far} far");
             let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-            for (a, b) in [
-                (&x, &copies.0),
-                (&y, &copies.1),
-                (&vx, &copies.2),
-                (&vy, &copies.3),
-            ] {
+            for (a, b) in scalar.iter().zip(&paired) {
                 assert_eq!(bits(a), bits(b), "{case}");
             }
             assert_eq!(one.impulse, two.impulse, "{case}");

@@ -83,10 +83,7 @@ impl LevelGrid {
             // outside the box.
             wrap_index(floor_to_isize(t), n) as usize
         } else {
-            // Clamped before it is an integer: on `[0, n - 1]` truncation is the floor, below
-            // it both give cell 0, above it cell `n - 1`, and NaN goes to 0 as before. No
-            // branch, and no saturating conversion: the binning's keys vectorise.
-            t.max(0.0).min((n - 1) as f64) as usize
+            clamp_cell(t, (n - 1) as f64) as usize
         }
     }
 
@@ -106,6 +103,15 @@ impl LevelGrid {
     pub(super) fn cell_index(&self, cx: usize, cy: usize) -> usize {
         self.cell_offset + cy * self.n[0] + cx
     }
+}
+
+/// Cell coordinate `t` (in cells from the grid's origin) clamped to `[0, top]` before it is
+/// an integer: on `[0, top]` truncation is the floor, below it both give cell 0, above it
+/// cell `top`, and NaN goes to 0, as flooring then clamping does; without a branch or a
+/// saturating conversion.
+#[inline(always)]
+pub(super) fn clamp_cell(t: f64, top: f64) -> f64 {
+    t.max(0.0).min(top)
 }
 
 /// `c` modulo `n > 0`, in `0..n`: one comparison for the common case of a coordinate

@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::integrate::max_skipping_nan;
 use crate::law::Law;
 use crate::parallel::{CHUNK, Executor};
 
@@ -146,7 +147,7 @@ fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
         // Four running maxima, not one: each `max` waits on the last, and one chain of them
         // was the whole loop's time. A maximum is exact, so any grouping gives the same
         // bits; NaN is skipped (as `f64::max` skips it).
-        let max = |acc: f64, v: f64| if v > acc { v } else { acc };
+        let max = max_skipping_nan;
         let mut largest = [0.0f64; 4];
         let (quads, rest) = v.as_chunks::<4>();
         let (out_quads, out_rest) = out.as_chunks_mut::<4>();

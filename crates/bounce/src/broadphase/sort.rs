@@ -8,7 +8,7 @@
 
 use std::ops::Range;
 
-use super::levels::{Level, LevelGrid};
+use super::levels::{Level, LevelGrid, clamp_cell};
 use crate::parallel::{CHUNK, Executor};
 
 /// Blocks aim to hold about this many discs: enough work per task, enough tasks.
@@ -53,8 +53,8 @@ pub(super) fn counting_sort(
                 let (top_x, top_y) = ((g.n[0] - 1) as f64, (g.n[1] - 1) as f64);
                 let (nx, offset) = (g.n[0] as u32, g.cell_offset as u32);
                 for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
-                    let cx = ((x - ox) * ix).max(0.0).min(top_x) as u32;
-                    let cy = ((y - oy) * iy).max(0.0).min(top_y) as u32;
+                    let cx = clamp_cell((x - ox) * ix, top_x) as u32;
+                    let cy = clamp_cell((y - oy) * iy, top_y) as u32;
                     *key = offset + cy * nx + cx;
                 }
             } else if level_of.is_empty() {
