@@ -78,6 +78,11 @@ impl Executor {
         Installer(self.pool_for(work).and(self.pool.clone()))
     }
 
+    /// Whether `work` runs on the pool (there is one and the work is worth it).
+    pub(crate) fn is_parallel(&self, work: usize) -> bool {
+        self.pool_for(work).is_some()
+    }
+
     /// The pool, when there is one and `work` is worth it.
     fn pool_for(&self, work: usize) -> Option<&rayon::ThreadPool> {
         self.pool.as_deref().filter(|_| work >= self.min_work)

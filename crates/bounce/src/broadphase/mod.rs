@@ -289,6 +289,7 @@ impl Broadphase {
             &mut self.scratch,
             ctx.exec,
             ctx.geometry.is_periodic(),
+            self.uniform_radius,
         );
         self.list([&p.x, &p.y, &p.radius], ctx, skin);
         self.overflowed = !self.reference.record(&p.x, &p.y, skin, ctx.exec);
@@ -358,7 +359,8 @@ impl Broadphase {
         }
 
         // 3. The counting sort (its keys in the permutation scratch) and 4. the blocks.
-        let keys = self.scratch.u32s(radius.len());
+        let extra = sort::scratch_for_counts(radius.len(), cell_offset, ctx.exec);
+        let keys = self.scratch.u32s(radius.len() + extra);
         sort::counting_sort(
             &self.grids,
             &self.level_of,

@@ -6,10 +6,11 @@
 //! capacity: a cell holds however many discs fall in it. Storage is in cell order from the
 //! last rebuild except for discs that changed cell, so the passes walk memory in order.
 
+use std::mem::MaybeUninit;
 use std::ops::Range;
 
 use super::levels::{Level, LevelGrid, clamp_cell};
-use crate::parallel::{CHUNK, Executor};
+use crate::parallel::{CHUNK, Executor, SharedSlice};
 
 /// Blocks aim to hold about this many discs: enough work per task, enough tasks.
 const DISCS_PER_BLOCK: f64 = 1024.0;
@@ -23,7 +24,8 @@ pub(super) struct Block {
 }
 
 /// Sorts discs at `x`, `y` (of levels `level_of`, empty for one level) by global cell index
-/// into `order` and `cell_start`; `keys` is scratch of at least `x.len()`.
+/// into `order` and `cell_start`; `keys` is scratch of at least `x.len()`, and what it has
+/// beyond that (see [`scratch_for_counts`]) lets the discs be placed on several threads.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn counting_sort(
     grids: &[LevelGrid],
@@ -37,7 +39,7 @@ pub(super) fn counting_sort(
 ) {
     let count = x.len();
     let total_cells = grids.last().map_or(0, |g| g.cell_offset + g.n[0] * g.n[1]);
-    let keys = &mut keys[..count];
+    let (keys, counts) = keys.split_at_mut(count);
     {
         let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
         exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
@@ -71,6 +73,28 @@ pub(super) fn counting_sort(
             }
         });
     }
+    if !place_in_parts(keys, counts, total_cells, cell_start, order, exec) {
+        place(keys, total_cells, cell_start, order);
+    }
+}
+
+/// How many `u32`s of scratch beyond the keys [`counting_sort`] can use for `total_cells`
+/// cells on `exec` (none when it places on one thread).
+pub(super) fn scratch_for_counts(count: usize, total_cells: usize, exec: &Executor) -> usize {
+    if exec.is_parallel(count) && exec.threads() > 1 {
+        total_cells + total_cells / MAX_WINDOW_EXCESS + exec.threads()
+    } else {
+        0
+    }
+}
+
+/// The parts' cell windows together may be this fraction (one over it) more than all the
+/// cells; beyond that the keys are far from sorted and one thread places them.
+const MAX_WINDOW_EXCESS: usize = 4;
+
+/// The serial stable counting sort of `keys` into `cell_start` and `order`.
+fn place(keys: &[u32], total_cells: usize, cell_start: &mut Vec<u32>, order: &mut Vec<u32>) {
+    let count = keys.len();
     cell_start.clear();
     cell_start.resize(total_cells + 1, 0);
     for &k in keys.iter() {
@@ -93,6 +117,134 @@ pub(super) fn counting_sort(
     }
     cell_start.copy_within(0..total_cells, 1);
     cell_start[0] = 0;
+}
+
+/// [`place`] in parallel, over as many runs of storage as there are threads. Storage is in
+/// the cell order of the last rebuild but for the discs that changed cell since, so each
+/// run's keys fall in a window of cells about its own share, overlapping its neighbours'
+/// only at the edges. Each run counts its window's cells (in `counts`), the counts give the
+/// cell starts and each run's first slot in each cell (the runs before it in storage take
+/// theirs first: the sort stays stable), and each run places its discs. The result is the
+/// serial sort's, whatever the number of runs. Returns `false`, having done nothing, when
+/// the sort runs on one thread, or the windows overlap so much that together they are more
+/// than a quarter larger than the grid, or `counts` is too short for them.
+fn place_in_parts(
+    keys: &[u32],
+    counts: &mut [u32],
+    total_cells: usize,
+    cell_start: &mut Vec<u32>,
+    order: &mut Vec<u32>,
+    exec: &Executor,
+) -> bool {
+    let count = keys.len();
+    let parts = exec.threads();
+    if parts < 2 || !exec.is_parallel(count) || count < parts {
+        return false;
+    }
+    let runs: Vec<Range<usize>> = (0..parts)
+        .map(|p| p * count / parts..(p + 1) * count / parts)
+        .collect();
+    // Each run's window of cells: its smallest and largest key.
+    let windows: Vec<Range<usize>> = exec.map_index(count, 0..parts, |p| {
+        let (lo, hi) = keys[runs[p].clone()]
+            .iter()
+            .fold((u32::MAX, 0), |(lo, hi), &k| (lo.min(k), hi.max(k)));
+        lo as usize..hi as usize + 1
+    });
+    let widths: usize = windows.iter().map(Range::len).sum();
+    if widths > total_cells + total_cells / MAX_WINDOW_EXCESS || widths > counts.len() {
+        return false;
+    }
+    // 1. Each run counts the discs per cell of its window.
+    let mut slices = Vec::with_capacity(parts);
+    let mut rest = &mut counts[..widths];
+    for window in &windows {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(window.len());
+        slices.push(slice);
+        rest = tail;
+    }
+    exec.for_each_mut(count, &mut slices, |p, cells| {
+        cells.fill(0);
+        let lo = windows[p].start;
+        for &k in &keys[runs[p].clone()] {
+            cells[k as usize - lo] += 1;
+        }
+    });
+    // 2. The cell starts, in parallel over ranges of cells: each cell's discs summed over
+    // the windows that hold it, each range's running sum, then the earlier ranges' totals.
+    cell_start.clear();
+    cell_start.resize(total_cells + 1, 0);
+    {
+        let per_range = total_cells.div_ceil(parts).max(1);
+        let mut ranges: Vec<&mut [u32]> = cell_start[1..].chunks_mut(per_range).collect();
+        let counted: &[&mut [u32]] = &slices;
+        let totals = exec.map_mut(total_cells, &mut ranges, |r, starts| {
+            let first = r * per_range;
+            for (window, cells) in windows.iter().zip(counted) {
+                let shared = window.start.max(first)..window.end.min(first + starts.len());
+                if shared.is_empty() {
+                    continue;
+                }
+                let own = &mut starts[shared.start - first..shared.end - first];
+                let theirs = &cells[shared.start - window.start..shared.end - window.start];
+                for (start, &n) in own.iter_mut().zip(theirs) {
+                    *start += n;
+                }
+            }
+            // The running sum in a register: a sum through memory waits on each store.
+            let mut sum = 0;
+            for start in starts.iter_mut() {
+                sum += *start;
+                *start = sum;
+            }
+            sum
+        });
+        let offsets: Vec<u32> = totals
+            .iter()
+            .scan(0, |before, &total| {
+                let offset = *before;
+                *before += total;
+                Some(offset)
+            })
+            .collect();
+        exec.for_each_mut(total_cells, &mut ranges, |r, starts| {
+            for start in starts.iter_mut() {
+                *start += offsets[r];
+            }
+        });
+    }
+    // 3. Each run's first slot per cell: the cell's start and the counts of the runs before
+    // it. From the last run back, so the earlier runs still hold their counts.
+    for p in (0..parts).rev() {
+        let (before, after) = slices.split_at_mut(p);
+        let (window, first) = (&windows[p], &mut after[0]);
+        first.copy_from_slice(&cell_start[window.clone()]);
+        for (earlier, cells) in windows[..p].iter().zip(before.iter()) {
+            let shared = window.start.max(earlier.start)..window.end.min(earlier.end);
+            for cell in shared {
+                first[cell - window.start] += cells[cell - earlier.start];
+            }
+        }
+    }
+    // 4. Each run places its discs.
+    // Every slot is written below: no need to clear them first.
+    order.clear();
+    order.reserve(count);
+    let slots = SharedSlice::new(&mut order.spare_capacity_mut()[..count]);
+    exec.for_each_mut(count, &mut slices, |p, next| {
+        let (run, lo) = (runs[p].clone(), windows[p].start);
+        for (i, &k) in run.clone().zip(&keys[run]) {
+            let slot = &mut next[k as usize - lo];
+            // SAFETY: run `p`'s slots in cell `c` start after the earlier runs' discs in `c`
+            // and number its own, so the runs' slots tile each cell's range: every slot of
+            // `order` is written by exactly one run, once.
+            unsafe { slots.set(*slot as usize, MaybeUninit::new(i as u32)) };
+            *slot += 1;
+        }
+    });
+    // SAFETY: the runs wrote every one of the first `count` slots (above).
+    unsafe { order.set_len(count) };
+    true
 }
 
 /// Strips of whole cell rows, about [`DISCS_PER_BLOCK`] discs each, so a block's discs are
@@ -217,5 +369,78 @@ mod tests {
         }
         // Each corner and edge of the grid was met.
         assert!(keys.contains(&0) && keys.contains(&15) && keys.contains(&3) && keys.contains(&12));
+    }
+
+    #[test]
+    fn placing_in_parts_gives_the_serial_sort() {
+        // Keys in cell order but for a share of discs moved to a nearby cell (the storage of
+        // a rebuild after the last), to any cell (windows overlapping past the limit: the
+        // serial sort), and all in one cell; on 2 and 3 threads, runs of unequal windows.
+        let cells = 5000;
+        let n = 20_000;
+        let mut state = 12345u64;
+        let mut random = |m: usize| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 33) % m as u64) as usize
+        };
+        let sorted: Vec<u32> = (0..n).map(|i| (i * cells / n) as u32).collect();
+        let near: Vec<u32> = sorted
+            .iter()
+            .map(|&k| match random(10) {
+                0 => (k as usize + random(60)).min(cells - 1) as u32,
+                1 => (k as usize).saturating_sub(random(60)) as u32,
+                _ => k,
+            })
+            .collect();
+        let mut far = near.clone();
+        far[3] = (cells - 1) as u32;
+        far[n - 3] = 0;
+        let one = vec![7u32; n];
+        for threads in [2, 3] {
+            let mut exec = Executor::new(threads).unwrap();
+            exec.min_work = 0;
+            for (keys, in_parts) in [(&sorted, true), (&near, true), (&far, false), (&one, true)] {
+                let (mut serial_start, mut serial_order) = (Vec::new(), Vec::new());
+                place(keys, cells, &mut serial_start, &mut serial_order);
+                // Room for any windows: the limit on their overlap decides.
+                assert!(scratch_for_counts(n, cells, &exec) > cells);
+                let mut counts = vec![0; threads * cells];
+                let (mut start, mut order) = (vec![9; 3], vec![9; 5]);
+                let placed =
+                    place_in_parts(keys, &mut counts, cells, &mut start, &mut order, &exec);
+                assert_eq!(placed, in_parts, "{threads} threads");
+                if placed {
+                    assert_eq!(start, serial_start);
+                    assert_eq!(order, serial_order);
+                }
+                // Too little scratch for the windows: the serial sort's turn (one cell's
+                // windows fit in anything).
+                let mut short = vec![0; 10];
+                let fits = place_in_parts(keys, &mut short, cells, &mut start, &mut order, &exec);
+                assert_eq!(fits, std::ptr::eq(keys, &one));
+            }
+        }
+        // One thread: always the serial sort.
+        let mut counts = vec![0; 2 * cells];
+        let (mut start, mut order) = (Vec::new(), Vec::new());
+        let serial = Executor::default();
+        assert_eq!(scratch_for_counts(n, cells, &serial), 0);
+        assert!(!place_in_parts(
+            &near,
+            &mut counts,
+            cells,
+            &mut start,
+            &mut order,
+            &serial
+        ));
+        // The sort is stable: within a cell, storage order.
+        place(&near, cells, &mut start, &mut order);
+        for cell in 0..cells {
+            let run = &order[start[cell] as usize..start[cell + 1] as usize];
+            assert!(run.windows(2).all(|w| w[0] < w[1]));
+            assert!(run.iter().all(|&i| near[i as usize] as usize == cell));
+        }
     }
 }
