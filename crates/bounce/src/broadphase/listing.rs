@@ -206,9 +206,11 @@ impl Context<'_> {
                 near_spare.add(near_len).cast::<u64>().write_unaligned(pair);
                 far_spare.add(far_len).cast::<u64>().write_unaligned(pair);
             }
-            let is_far = d2 > near2;
-            near_len += (d2 <= near2) as usize;
-            far_len += (is_far & (d2 <= cut2)) as usize;
+            // Near pairs are within the cut too (`near2 <= cut2`): the far band takes those
+            // within the cut less those near, with no third comparison. (NaN is in neither.)
+            let near = (d2 <= near2) as usize;
+            near_len += near;
+            far_len += (d2 <= cut2) as usize - near;
         }
         // SAFETY: the pairs up to these lengths were written above (or before).
         unsafe {
