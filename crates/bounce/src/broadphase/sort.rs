@@ -40,9 +40,11 @@ pub(super) fn counting_sort(
     let count = x.len();
     let total_cells = grids.last().map_or(0, |g| g.cell_offset + g.n[0] * g.n[1]);
     let (keys, counts) = keys.split_at_mut(count);
+    let windows;
     {
         let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
-        exec.for_each_mut(count, &mut chunks, |_, (c, keys)| {
+        // Each chunk's window of cells, while its keys are in cache.
+        windows = exec.map_mut(count, &mut chunks, |_, (c, keys)| {
             let base = *c * CHUNK;
             let (x, y) = (&x[base..base + keys.len()], &y[base..base + keys.len()]);
             if level_of.is_empty() && !grids[0].wrap {
@@ -71,9 +73,10 @@ pub(super) fn counting_sort(
                     *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
                 }
             }
+            window_of(keys)
         });
     }
-    if !place_in_parts(keys, counts, total_cells, cell_start, order, exec) {
+    if !place_in_parts(keys, &windows, counts, total_cells, cell_start, order, exec) {
         place(keys, total_cells, cell_start, order);
     }
 }
@@ -91,6 +94,18 @@ pub(super) fn scratch_for_counts(count: usize, total_cells: usize, exec: &Execut
 /// The parts' cell windows together may be this fraction (one over it) more than all the
 /// cells; beyond that the keys are far from sorted and one thread places them.
 const MAX_WINDOW_EXCESS: usize = 4;
+
+/// The cells `keys` fall in: the smallest key to one past the largest (empty for no keys).
+fn window_of(keys: &[u32]) -> Range<usize> {
+    let (lo, hi) = keys
+        .iter()
+        .fold((u32::MAX, 0), |(lo, hi), &k| (lo.min(k), hi.max(k)));
+    if keys.is_empty() {
+        0..0
+    } else {
+        lo as usize..hi as usize + 1
+    }
+}
 
 /// The serial stable counting sort of `keys` into `cell_start` and `order`.
 fn place(keys: &[u32], total_cells: usize, cell_start: &mut Vec<u32>, order: &mut Vec<u32>) {
@@ -119,17 +134,20 @@ fn place(keys: &[u32], total_cells: usize, cell_start: &mut Vec<u32>, order: &mu
     cell_start[0] = 0;
 }
 
-/// [`place`] in parallel, over as many runs of storage as there are threads. Storage is in
-/// the cell order of the last rebuild but for the discs that changed cell since, so each
-/// run's keys fall in a window of cells about its own share, overlapping its neighbours'
-/// only at the edges. Each run counts its window's cells (in `counts`), the counts give the
-/// cell starts and each run's first slot in each cell (the runs before it in storage take
-/// theirs first: the sort stays stable), and each run places its discs. The result is the
-/// serial sort's, whatever the number of runs. Returns `false`, having done nothing, when
-/// the sort runs on one thread, or the windows overlap so much that together they are more
-/// than a quarter larger than the grid, or `counts` is too short for them.
+/// [`place`] in parallel, over as many runs of storage as there are threads, each of whole
+/// chunks of [`CHUNK`] discs, whose windows of cells (see [`window_of`]) the key loop found:
+/// `chunk_windows`. Storage is in the cell order of the last rebuild but for the discs that
+/// changed cell since, so each run's keys fall in a window of cells about its own share,
+/// overlapping its neighbours' only at the edges. Each run counts its window's cells (in
+/// `counts`), the counts give the cell starts and each run's first slot in each cell (the
+/// runs before it in storage take theirs first: the sort stays stable), and each run places
+/// its discs. The result is the serial sort's, whatever the number of runs. Returns `false`,
+/// having done nothing, when the sort runs on one thread, or the windows overlap so much
+/// that together they are more than a quarter larger than the grid, or `counts` is too
+/// short for them.
 fn place_in_parts(
     keys: &[u32],
+    chunk_windows: &[Range<usize>],
     counts: &mut [u32],
     total_cells: usize,
     cell_start: &mut Vec<u32>,
@@ -138,19 +156,29 @@ fn place_in_parts(
 ) -> bool {
     let count = keys.len();
     let parts = exec.threads();
-    if parts < 2 || !exec.is_parallel(count) || count < parts {
+    let chunks = chunk_windows.len();
+    debug_assert_eq!(chunks, count.div_ceil(CHUNK));
+    if parts < 2 || !exec.is_parallel(count) || chunks < parts {
         return false;
     }
-    let runs: Vec<Range<usize>> = (0..parts)
-        .map(|p| p * count / parts..(p + 1) * count / parts)
+    // Runs of whole chunks, each with its window of cells: its chunks' together.
+    let chunk_runs: Vec<Range<usize>> = (0..parts)
+        .map(|p| p * chunks / parts..(p + 1) * chunks / parts)
         .collect();
-    // Each run's window of cells: its smallest and largest key.
-    let windows: Vec<Range<usize>> = exec.map_index(count, 0..parts, |p| {
-        let (lo, hi) = keys[runs[p].clone()]
-            .iter()
-            .fold((u32::MAX, 0), |(lo, hi), &k| (lo.min(k), hi.max(k)));
-        lo as usize..hi as usize + 1
-    });
+    let runs: Vec<Range<usize>> = chunk_runs
+        .iter()
+        .map(|r| r.start * CHUNK..(r.end * CHUNK).min(count))
+        .collect();
+    let windows: Vec<Range<usize>> = chunk_runs
+        .iter()
+        .map(|r| {
+            chunk_windows[r.clone()]
+                .iter()
+                .fold(usize::MAX..0, |all, w| {
+                    all.start.min(w.start)..all.end.max(w.end)
+                })
+        })
+        .collect();
     let widths: usize = windows.iter().map(Range::len).sum();
     if widths > total_cells + total_cells / MAX_WINDOW_EXCESS || widths > counts.len() {
         return false;
@@ -408,8 +436,16 @@ mod tests {
                 assert!(scratch_for_counts(n, cells, &exec) > cells);
                 let mut counts = vec![0; threads * cells];
                 let (mut start, mut order) = (vec![9; 3], vec![9; 5]);
-                let placed =
-                    place_in_parts(keys, &mut counts, cells, &mut start, &mut order, &exec);
+                let windows: Vec<_> = keys.chunks(CHUNK).map(window_of).collect();
+                let placed = place_in_parts(
+                    keys,
+                    &windows,
+                    &mut counts,
+                    cells,
+                    &mut start,
+                    &mut order,
+                    &exec,
+                );
                 assert_eq!(placed, in_parts, "{threads} threads");
                 if placed {
                     assert_eq!(start, serial_start);
@@ -418,7 +454,9 @@ mod tests {
                 // Too little scratch for the windows: the serial sort's turn (one cell's
                 // windows fit in anything).
                 let mut short = vec![0; 10];
-                let fits = place_in_parts(keys, &mut short, cells, &mut start, &mut order, &exec);
+                let fits = place_in_parts(
+                    keys, &windows, &mut short, cells, &mut start, &mut order, &exec,
+                );
                 assert_eq!(fits, std::ptr::eq(keys, &one));
             }
         }
@@ -427,8 +465,10 @@ mod tests {
         let (mut start, mut order) = (Vec::new(), Vec::new());
         let serial = Executor::default();
         assert_eq!(scratch_for_counts(n, cells, &serial), 0);
+        let windows: Vec<_> = near.chunks(CHUNK).map(window_of).collect();
         assert!(!place_in_parts(
             &near,
+            &windows,
             &mut counts,
             cells,
             &mut start,
