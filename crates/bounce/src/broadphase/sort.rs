@@ -172,11 +172,12 @@ fn place_in_parts(
     let windows: Vec<Range<usize>> = chunk_runs
         .iter()
         .map(|r| {
-            chunk_windows[r.clone()]
+            let (lo, end) = chunk_windows[r.clone()]
                 .iter()
-                .fold(usize::MAX..0, |all, w| {
-                    all.start.min(w.start)..all.end.max(w.end)
-                })
+                .fold((usize::MAX, 0), |(lo, end), w| {
+                    (lo.min(w.start), end.max(w.end))
+                });
+            lo..end
         })
         .collect();
     let widths: usize = windows.iter().map(Range::len).sum();
