@@ -398,6 +398,16 @@ impl PermuteScratch {
         }
         &mut bytemuck::cast_slice_mut(&mut self.f64[..])[..n]
     }
+
+    /// [`PermuteScratch::u32s`], and up to `extra` more where the scratch already has them
+    /// (after a permutation it holds `n` `f64`s, room for `2n` `u32`s): it never grows for
+    /// them, so they cost no memory.
+    pub(crate) fn u32s_and_room(&mut self, n: usize, extra: usize) -> &mut [u32] {
+        self.u32s(n);
+        let all: &mut [u32] = bytemuck::cast_slice_mut(&mut self.f64[..]);
+        let len = all.len().min(n + extra);
+        &mut all[..len]
+    }
 }
 
 #[cfg(test)]
@@ -460,5 +470,18 @@ mod tests {
         }
         assert!(all_same_bits(&[], &Executor::default()));
         assert!(!all_same_bits(&[0.0, -0.0], &Executor::default()));
+    }
+
+    #[test]
+    fn the_scratch_gives_room_it_has_and_never_grows_for_it() {
+        let mut scratch = PermuteScratch::default();
+        // Fresh: room for the keys alone (rounded up to whole f64s).
+        assert_eq!(scratch.u32s_and_room(7, 100).len(), 8);
+        assert_eq!(scratch.f64.len(), 4);
+        // After a permutation's f64s: twice the keys, at most what is asked.
+        scratch.f64s(7);
+        assert_eq!(scratch.u32s_and_room(7, 3).len(), 10);
+        assert_eq!(scratch.u32s_and_room(7, 100).len(), 14);
+        assert_eq!(scratch.f64.len(), 7);
     }
 }

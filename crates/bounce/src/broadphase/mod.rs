@@ -360,7 +360,7 @@ impl Broadphase {
 
         // 3. The counting sort (its keys in the permutation scratch) and 4. the blocks.
         let extra = sort::scratch_for_counts(radius.len(), cell_offset, ctx.exec);
-        let keys = self.scratch.u32s(radius.len() + extra);
+        let keys = self.scratch.u32s_and_room(radius.len(), extra);
         sort::counting_sort(
             &self.grids,
             &self.level_of,

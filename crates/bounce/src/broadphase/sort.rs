@@ -5,6 +5,10 @@
 //! cell `c` holds new indices `cell_start[c]..cell_start[c + 1]`). There is no fixed cell
 //! capacity: a cell holds however many discs fall in it. Storage is in cell order from the
 //! last rebuild except for discs that changed cell, so the passes walk memory in order.
+//!
+//! That near order also lets several threads place the discs: each run of storage counts
+//! and places its own discs, within the window of cells its keys span (about its own share
+//! of the grid), and the result is the serial sort's (see [`place_in_parts`]).
 
 use std::mem::MaybeUninit;
 use std::ops::Range;
