@@ -47,7 +47,9 @@ pub(super) fn counting_sort(
     let windows;
     {
         let mut chunks: Vec<(usize, &mut [u32])> = keys.chunks_mut(CHUNK).enumerate().collect();
-        // Each chunk's window of cells, while its keys are in cache.
+        // Each chunk's window of cells, while its keys are in cache (only where the
+        // placement can use them: with room for the counts).
+        let want_windows = !counts.is_empty();
         windows = exec.map_mut(count, &mut chunks, |_, (c, keys)| {
             let base = *c * CHUNK;
             let (x, y) = (&x[base..base + keys.len()], &y[base..base + keys.len()]);
@@ -77,7 +79,7 @@ pub(super) fn counting_sort(
                     *key = g.cell_index(g.coord(x, 0), g.coord(y, 1)) as u32;
                 }
             }
-            window_of(keys)
+            if want_windows { window_of(keys) } else { 0..0 }
         });
     }
     if !place_in_parts(keys, &windows, counts, total_cells, cell_start, order, exec) {
@@ -88,7 +90,8 @@ pub(super) fn counting_sort(
 /// How many `u32`s of scratch beyond the keys [`counting_sort`] can use for `total_cells`
 /// cells on `exec` (none when it places on one thread).
 pub(super) fn scratch_for_counts(count: usize, total_cells: usize, exec: &Executor) -> usize {
-    if exec.is_parallel(count) && exec.threads() > 1 {
+    // A pool has at least two threads.
+    if exec.is_parallel(count) {
         total_cells + total_cells / MAX_WINDOW_EXCESS + exec.threads()
     } else {
         0
@@ -162,7 +165,7 @@ fn place_in_parts(
     let parts = exec.threads();
     let chunks = chunk_windows.len();
     debug_assert_eq!(chunks, count.div_ceil(CHUNK));
-    if parts < 2 || !exec.is_parallel(count) || chunks < parts {
+    if !exec.is_parallel(count) || chunks < parts || counts.is_empty() {
         return false;
     }
     // Runs of whole chunks, each with its window of cells: its chunks' together.
