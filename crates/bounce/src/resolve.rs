@@ -53,8 +53,9 @@ pub(crate) fn resolve_all(
     // for memory unless their discs are asked for ahead.
     let scattered = contacts.list.len() < p.len() / 4;
     let radius_is_mass = ctx.law.mass_model == MassModel::Radius;
-    // Equal discs' radius is one number, not a fifth cache line per scattered disc (dense
-    // contacts find theirs in cache).
+    // Equal discs' radius is one number: not a fifth cache line per scattered disc, and for
+    // dense contacts (which find theirs in cache) no lanes to gather and no sums of radii
+    // or masses per contact.
     // (Unread unless `UNIFORM`.)
     let r = uniform_radius.unwrap_or(f64::NAN);
     match (scattered, radius_is_mass, uniform_radius.is_some()) {
@@ -62,8 +63,10 @@ pub(crate) fn resolve_all(
         (true, false, true) => resolve_pieces::<true, false, true>(contacts, p, ctx, walls, r),
         (true, true, false) => resolve_pieces::<true, true, false>(contacts, p, ctx, walls, r),
         (true, false, false) => resolve_pieces::<true, false, false>(contacts, p, ctx, walls, r),
-        (false, true, _) => resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r),
-        (false, false, _) => resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r),
+        (false, true, true) => resolve_pieces::<false, true, true>(contacts, p, ctx, walls, r),
+        (false, false, true) => resolve_pieces::<false, false, true>(contacts, p, ctx, walls, r),
+        (false, true, false) => resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r),
+        (false, false, false) => resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r),
     }
 }
 

@@ -565,19 +565,28 @@ fn the_solver_lanes_give_the_bits_of_the_seed_loop() {
     // The solver resolves four runs of contacts (whole blocks, disjoint discs) side by side,
     // two or one as they run out: the same state and virial, bit for bit, as the seed's loop
     // over the same contacts one after another. Settling piles of equal and of mixed discs
-    // (dense contacts, long runs), in walls and on a floor in a periodic box, some time in.
+    // (dense contacts, long runs), in walls and on a floor in a periodic box, some time in,
+    // resolved with each mass model (equal discs' radius, and with it the seed's mass, is
+    // one number in the solver; the other models still read each disc's mass).
     for boundary in [
         Boundary::walls([0.0, 0.0], [40.0, 80.0]),
         Boundary::periodic([0.0, -2.0], [40.0, 80.0]),
     ] {
-        for equal in [false, true] {
+        for (equal, mass_model) in [false, true]
+            .into_iter()
+            .flat_map(|equal| [MassModel::Radius, MassModel::Area].map(|m| (equal, m)))
+        {
             let radius = if equal { [0.5, 0.5] } else { [0.4, 0.6] };
             let mut world = settling_pile_of(&boundary, radius);
             for _ in 0..300 {
                 world.step(1.0 / 60.0).unwrap();
             }
-            let case = format!("{boundary:?} equal {equal}");
-            let ctx = StepContext::new(&world.config, 1.0 / 240.0, &world.exec, None);
+            let case = format!("{boundary:?} equal {equal} {mass_model:?}");
+            let config = Config {
+                mass_model,
+                ..world.config.clone()
+            };
+            let ctx = StepContext::new(&config, 1.0 / 240.0, &world.exec, None);
             let bp = &world.broadphase;
             world
                 .contacts
