@@ -186,12 +186,17 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             let impulse =
                 [0, 1].map(|k| half * (ma * (out.v1[k] - va[k]) - mb * (out.v2[k] - vb[k])));
             let term = diff[0] * impulse[0] + diff[1] * impulse[1];
+            // The lanes' terms (zero where the tally does not count the pair) added together.
             let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
-            term.each(|k, term| {
-                if tally.is_none_or(|t| t.counts(xa_at[k], ya_at[k])) {
-                    virial.add(term);
+            let mut terms = lane_values(term);
+            if let Some(t) = tally {
+                for k in 0..L::LANES {
+                    if !t.counts(xa_at[k], ya_at[k]) {
+                        terms[k] = 0.0;
+                    }
                 }
-            });
+            }
+            virial.add_all(&terms[..L::LANES]);
             let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
             let (mut xb, mut yb) = (xb - out.push[0], yb - out.push[1]);
             if let Some((min, max)) = *walls {

@@ -4,8 +4,9 @@
 //! threads, storage order and, in a distributed run, the ranks meet in different orders.
 //! Floating-point addition is not associative, so a plain `+=` would give totals that differ
 //! in their last bits with the order. [`ExactSum`] keeps the sum exactly, as a fixed-point
-//! integer wide enough for every finite `f64` (a "superaccumulator": 32-bit lanes of `i64`,
-//! each with room for 2^31 additions before carries are propagated), so any order, any
+//! integer wide enough for every finite `f64` (a "superaccumulator": 32-bit lanes of `i64`;
+//! a term's 53 bits go into two of them, so a lane has room for 2^10 additions before
+//! carries are propagated), so any order, any
 //! grouping and any merge of partial sums give the same total, and [`ExactSum::value`] turns
 //! that one total into the same `f64`. Infinities and NaN are kept apart in an `f64` whose
 //! sum does not depend on order either (`inf + -inf` is NaN whichever comes first).
@@ -16,9 +17,10 @@
 /// 32-bit lanes from 2^-1074 (the smallest subnormal) up: 2046 exponents plus 53 mantissa bits
 /// need 66, and one more holds the carries of a total above `f64::MAX`.
 const LANES: usize = 67;
-/// Additions a lane takes (each adds less than 2^32 in magnitude) before carries must be
-/// propagated to keep it within `i64`.
-const ADDS_BEFORE_CARRY: u32 = 1 << 30;
+/// Additions a lane takes before carries must be propagated to keep it within `i64`: each
+/// adds less than 2^52 in magnitude (a term's bits above the lowest 32 of its window), to a
+/// lane below 2^32 after a carry.
+const ADDS_BEFORE_CARRY: u32 = 1 << 10;
 
 /// An exact, order-independent sum of `f64` terms.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -43,35 +45,52 @@ impl ExactSum {
         if v == 0.0 {
             return;
         }
-        let bits = v.to_bits();
-        let exponent = ((bits >> 52) & 0x7ff) as u32;
-        if exponent == 0x7ff {
-            self.special += v;
+        self.add_all(&[v]);
+    }
+
+    /// Adds each of `terms` exactly (zeros add nothing): the carry interval checked and the
+    /// lanes found once for all of them (the solver adds its lanes' virial terms together).
+    #[inline]
+    pub fn add_all(&mut self, terms: &[f64]) {
+        debug_assert!(terms.len() <= ADDS_BEFORE_CARRY as usize);
+        if terms.iter().all(|&v| v == 0.0) {
+            // The lanes stay unallocated (and the sum equal to an empty one) until a term
+            // that is not zero.
             return;
         }
-        // `v = ±mantissa × 2^(position − 1074)`; subnormals (exponent 0) have position 0,
-        // as do the smallest normals (exponent 1), with the implicit bit.
-        let mantissa = (bits & ((1 << 52) - 1)) | (u64::from(exponent != 0) << 52);
-        let position = exponent.saturating_sub(1);
-        let (lane, shift) = ((position / 32) as usize, position % 32);
-        let wide = u128::from(mantissa) << shift;
-        // The sign applied without a branch (terms of either sign come at random): all ones
-        // where negative, so `(piece ^ sign) - sign` is `-piece` there and `piece` else.
-        let sign = -((bits >> 63) as i64);
-        let pieces = [
-            (wide & 0xffff_ffff) as i64,
-            ((wide >> 32) & 0xffff_ffff) as i64,
-            (wide >> 64) as i64,
-        ];
-        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
-        // `position < 2046`, so `lane + 2 < 66 < LANES`.
-        let lanes = &mut lanes[lane..lane + 3];
-        for (slot, piece) in lanes.iter_mut().zip(pieces) {
-            *slot += (piece ^ sign) - sign;
-        }
-        self.adds += 1;
-        if self.adds >= ADDS_BEFORE_CARRY {
+        if self.adds as usize + terms.len() > ADDS_BEFORE_CARRY as usize {
             self.carry();
+        }
+        self.adds += terms.len() as u32;
+        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
+        for &v in terms {
+            let bits = v.to_bits();
+            let exponent = ((bits >> 52) & 0x7ff) as u32;
+            if exponent == 0x7ff {
+                self.special += v;
+                continue;
+            }
+            // `v = ±mantissa × 2^(position − 1074)`; subnormals (exponent 0) have position
+            // 0, as do the smallest normals (exponent 1), with the implicit bit. (A zero has
+            // mantissa 0 and adds 0.)
+            let mantissa = (bits & ((1 << 52) - 1)) | (u64::from(exponent != 0) << 52);
+            let position = exponent.saturating_sub(1);
+            let (lane, shift) = ((position / 32) as usize, position % 32);
+            // `mantissa << shift` (85 bits at most) as its lowest 32 bits and the rest (below
+            // 2^52), in two lanes: no 128-bit shift and one lane fewer than 32-bit pieces
+            // (the virial is a fifth of a settled pile's resolution).
+            let pieces = [
+                ((mantissa << shift) & 0xffff_ffff) as i64,
+                (mantissa >> (32 - shift)) as i64,
+            ];
+            // The sign applied without a branch (terms of either sign come at random): all
+            // ones where negative, so `(piece ^ sign) - sign` is `-piece` there and `piece`
+            // else.
+            let sign = -((bits >> 63) as i64);
+            // `position < 2046`, so `lane + 1 < 65 < LANES`.
+            for (slot, piece) in lanes[lane..lane + 2].iter_mut().zip(pieces) {
+                *slot += (piece ^ sign) - sign;
+            }
         }
     }
 
@@ -81,8 +100,8 @@ impl ExactSum {
         let Some(theirs) = &other.lanes else {
             return;
         };
-        // Ours normalised (each lane below 2^32 in magnitude) and theirs below 2^30
-        // additions of less than 2^32 each: the lane sums stay within `i64`.
+        // Ours normalised (each lane below 2^32 in magnitude) and theirs at most 2^10
+        // additions of less than 2^52 each past a carry: the lane sums stay within `i64`.
         self.carry();
         let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
         for (mine, theirs) in lanes.iter_mut().zip(theirs.iter()) {
@@ -372,6 +391,32 @@ mod tests {
                 .is_nan()
         );
         assert!(sum_of(&[f64::NAN, 1.0]).value().is_nan());
+    }
+
+    #[test]
+    fn thousands_of_full_mantissas_in_one_window_sum_exactly() {
+        // Terms just below 4 fill a term's window up to its top lane's 52 bits: thousands
+        // of them in one lane (past the carry interval) still give the exact total.
+        let t = 4.0f64.next_down(); // (2^53 - 1) × 2^-51
+        let mantissa = (1i128 << 53) - 1;
+        for (up, down) in [(5000, 0), (3000, 2999), (0, 4096), (7000, 2000)] {
+            let mut s = ExactSum::new();
+            for k in 0..up.max(down) {
+                if k < up {
+                    s.add(t);
+                }
+                if k < down {
+                    s.add(-t);
+                }
+            }
+            let exact = (up - down) as i128 * mantissa;
+            let expected = exact as f64 * 2f64.powi(-51);
+            assert_eq!(
+                s.value().to_bits(),
+                expected.to_bits(),
+                "{up} up, {down} down"
+            );
+        }
     }
 
     #[test]
