@@ -183,8 +183,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             let out = resolve_lanes(diff, [va, vb], [ra, rb], [ma, mb], law);
             // The pair's impulse: half the difference of the momentum changes.
             let half = L::splat(0.5);
-            let impulse =
-                [0, 1].map(|k| half * (ma * (out.v1[k] - va[k]) - mb * (out.v2[k] - vb[k])));
+            // (Written out, not `[0, 1].map`: the compiler left that closure out of line.)
+            let impulse_along =
+                |k: usize| half * (ma * (out.v1[k] - va[k]) - mb * (out.v2[k] - vb[k]));
+            let impulse = [impulse_along(0), impulse_along(1)];
             let term = diff[0] * impulse[0] + diff[1] * impulse[1];
             // The lanes' terms (zero where the tally does not count the pair) added together.
             let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
