@@ -73,16 +73,33 @@ impl Contact {
         j: usize,
         key: impl FnOnce(f64, f64) -> u64,
     ) -> Self {
+        Self::of_values([i, j], [id[i], id[j]], [[x[i], y[i]], [x[j], y[j]]], key)
+    }
+
+    /// The contact of discs `i` and `j` given their ids and positions (which the test has
+    /// read already): lower id first, keyed by `key` of the lower-id disc's position.
+    #[inline(always)]
+    fn of_values(
+        [i, j]: [usize; 2],
+        [id_i, id_j]: [ParticleId; 2],
+        [at_i, at_j]: [[f64; 2]; 2],
+        key: impl FnOnce(f64, f64) -> u64,
+    ) -> Self {
         // Which id is lower is a coin toss, and in a gas the ids are far from cache: a branch
         // on it would mispredict half the time and each flush would wait for the miss.
-        let lower_first = id[i] < id[j];
-        let (a, b) = (
-            std::hint::select_unpredictable(lower_first, i, j),
-            std::hint::select_unpredictable(lower_first, j, i),
+        let lower_first = id_i < id_j;
+        let select =
+            |first: u64, second: u64| std::hint::select_unpredictable(lower_first, first, second);
+        let (a, b) = (select(i as u64, j as u64), select(j as u64, i as u64));
+        let (id_a, id_b) = (
+            select(id_i.0.into(), id_j.0.into()),
+            select(id_j.0.into(), id_i.0.into()),
         );
+        let x_a = f64::from_bits(select(at_i[0].to_bits(), at_j[0].to_bits()));
+        let y_a = f64::from_bits(select(at_i[1].to_bits(), at_j[1].to_bits()));
         Contact {
-            key: key(x[a], y[a]),
-            ids: (u64::from(id[a].0) << 32) | u64::from(id[b].0),
+            key: key(x_a, y_a),
+            ids: (id_a << 32) | id_b,
             a: a as u32,
             b: b as u32,
         }
@@ -464,22 +481,33 @@ impl Contacts {
                 let pairs = &presorted.pairs[first..blocks.last().map_or(first, |b| b.1 as usize)];
                 // The contacts come in candidate order: follow the blocks alongside. A disc
                 // inside its block's span has its key without the arithmetic.
-                let block = std::cell::Cell::new(0);
+                // Whether the last contact keyed has its block's key (is in place).
+                let (block, in_place) = (std::cell::Cell::new(0), std::cell::Cell::new(true));
                 let key = |k: usize, x: f64, y: f64| {
-                    let mut b = block.get();
-                    while blocks[b].1 as usize <= first + k {
-                        b += 1;
-                    }
-                    block.set(b);
-                    let [x_lo, x_hi, y_lo, y_hi] = spans[b];
+                    debug_assert!(first + k < blocks.last().map_or(0, |b| b.1 as usize));
+                    debug_assert_eq!(blocks.len(), spans.len());
+                    // SAFETY: candidate `k` of `pairs` lies in one of the chunk's blocks, and
+                    // the last of them ends `pairs`: the walk stops within `blocks` (and
+                    // `spans`, one a block).
+                    let (block_key, [x_lo, x_hi, y_lo, y_hi]) = unsafe {
+                        let mut b = block.get();
+                        while blocks.get_unchecked(b).1 as usize <= first + k {
+                            b += 1;
+                        }
+                        block.set(b);
+                        (blocks.get_unchecked(b).0, *spans.get_unchecked(b))
+                    };
                     if x >= x_lo && x < x_hi && y >= y_lo && y < y_hi {
-                        blocks[b].0
+                        in_place.set(true);
+                        block_key
                     } else {
-                        grid.key(x, y)
+                        let key = grid.key(x, y);
+                        in_place.set(key == block_key);
+                        key
                     }
                 };
                 let emit = |_, c: Contact| {
-                    if c.key == blocks[block.get()].0 {
+                    if in_place.get() {
                         found.push(c);
                     } else {
                         out.push(c);
@@ -1043,12 +1071,20 @@ unsafe fn test<const UNIFORM: bool>(
             }
         }
         for &k in &hits[..n] {
-            let [i, j] = chunk[k as usize];
+            // SAFETY: `k < chunk.len()` (a place the screen wrote), and the indices are in
+            // bounds as above.
+            let [i, j] = unsafe { *chunk.get_unchecked(k as usize) };
             let (i, j) = (i as usize, j as usize);
             if skip(i, j) {
                 continue;
             }
-            let [dx, dy] = diff(x[i], y[i], x[j], y[j]);
+            let (at_i, at_j) = unsafe {
+                (
+                    [*x.get_unchecked(i), *y.get_unchecked(i)],
+                    [*x.get_unchecked(j), *y.get_unchecked(j)],
+                )
+            };
+            let [dx, dy] = diff(at_i[0], at_i[1], at_j[0], at_j[1]);
             if UNIFORM {
                 // The screen was the exact test; the same bits give the same distance.
                 nearest2 = nearest2.min(dx * dx + dy * dy);
@@ -1065,7 +1101,10 @@ unsafe fn test<const UNIFORM: bool>(
                 max_overlap = max_overlap.max(reach - distance);
             }
             let k = c * SCREEN + k as usize;
-            emit(k, Contact::keyed(id, [x, y], i, j, |x, y| key_of(k, x, y)));
+            // SAFETY: as above.
+            let ids = unsafe { [*id.get_unchecked(i), *id.get_unchecked(j)] };
+            let contact = Contact::of_values([i, j], ids, [at_i, at_j], |x, y| key_of(k, x, y));
+            emit(k, contact);
         }
     }
     if UNIFORM && nearest2 < f64::INFINITY {
