@@ -34,6 +34,12 @@ pub trait Lanes:
     fn lt(self, other: Self) -> Self::Mask;
     /// `a` where `mask` holds, else `b`, per lane (bits unchanged).
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// `self` where `self < other`, else `other` (so `other` where either is NaN, and
+    /// `other` of two zeros), per lane: `select(self.lt(other), self, other)` in one
+    /// instruction (SSE2's `minpd` is exactly this).
+    fn min_else(self, other: Self) -> Self;
+    /// `self` where `self > other`, else `other`, per lane (SSE2's `maxpd`).
+    fn max_else(self, other: Self) -> Self;
     /// Lane `k` set to `f(k)`.
     fn gather(f: impl FnMut(usize) -> f64) -> Self;
     /// `f(k, lane k)` for each lane, in order.
@@ -62,6 +68,14 @@ impl Lanes for f64 {
     #[inline(always)]
     fn select(mask: bool, a: Self, b: Self) -> Self {
         if mask { a } else { b }
+    }
+    #[inline(always)]
+    fn min_else(self, other: Self) -> Self {
+        if self < other { self } else { other }
+    }
+    #[inline(always)]
+    fn max_else(self, other: Self) -> Self {
+        if self > other { self } else { other }
     }
     #[inline(always)]
     fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
@@ -147,6 +161,20 @@ impl Lanes for F64x4 {
         F64x4([
             F64x2::select(mask.0[0], a.0[0], b.0[0]),
             F64x2::select(mask.0[1], a.0[1], b.0[1]),
+        ])
+    }
+    #[inline(always)]
+    fn min_else(self, other: Self) -> Self {
+        F64x4([
+            self.0[0].min_else(other.0[0]),
+            self.0[1].min_else(other.0[1]),
+        ])
+    }
+    #[inline(always)]
+    fn max_else(self, other: Self) -> Self {
+        F64x4([
+            self.0[0].max_else(other.0[0]),
+            self.0[1].max_else(other.0[1]),
         ])
     }
     #[inline(always)]
@@ -285,6 +313,16 @@ mod imp {
             F64x2(unsafe { _mm_or_pd(_mm_and_pd(mask.0, a.0), _mm_andnot_pd(mask.0, b.0)) })
         }
         #[inline(always)]
+        fn min_else(self, other: Self) -> Self {
+            // SAFETY: SSE2 (`minpd`: the first operand where it is less, else the second).
+            F64x2(unsafe { _mm_min_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn max_else(self, other: Self) -> Self {
+            // SAFETY: SSE2 (`maxpd`: the first operand where it is greater, else the second).
+            F64x2(unsafe { _mm_max_pd(self.0, other.0) })
+        }
+        #[inline(always)]
         fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
             let a = f(0);
             F64x2::new(a, f(1))
@@ -407,6 +445,20 @@ mod imp {
             ])
         }
         #[inline(always)]
+        fn min_else(self, other: Self) -> Self {
+            F64x2([
+                self.0[0].min_else(other.0[0]),
+                self.0[1].min_else(other.0[1]),
+            ])
+        }
+        #[inline(always)]
+        fn max_else(self, other: Self) -> Self {
+            F64x2([
+                self.0[0].max_else(other.0[0]),
+                self.0[1].max_else(other.0[1]),
+            ])
+        }
+        #[inline(always)]
         fn gather(mut f: impl FnMut(usize) -> f64) -> Self {
             let a = f(0);
             F64x2::new(a, f(1))
@@ -451,6 +503,18 @@ mod tests {
                 assert_eq!(bits(x.sqrt()), [a.sqrt().to_bits(), b.sqrt().to_bits()]);
                 assert_eq!(x.gt(y).lanes(), [a > b, b > a]);
                 assert_eq!(x.lt(y).lanes(), [a < b, b < a]);
+                let scalar_min = |p: f64, q: f64| if p < q { p } else { q };
+                let scalar_max = |p: f64, q: f64| if p > q { p } else { q };
+                assert_eq!(
+                    bits(x.min_else(y)),
+                    [scalar_min(a, b).to_bits(), scalar_min(b, a).to_bits()]
+                );
+                assert_eq!(
+                    bits(x.max_else(y)),
+                    [scalar_max(a, b).to_bits(), scalar_max(b, a).to_bits()]
+                );
+                assert_eq!(bits(x.min_else(y)), bits(F64x2::select(x.lt(y), x, y)));
+                assert_eq!(bits(x.max_else(y)), bits(F64x2::select(x.gt(y), x, y)));
                 let chosen = F64x2::select(x.lt(y), x, y);
                 assert_eq!(
                     bits(chosen),
@@ -488,5 +552,7 @@ mod tests {
         let pick = |m: Mask4| bits(F64x4::select(m, x, y));
         assert_eq!(pick(x.gt(y)), scalar(&|p, q| if p > q { p } else { q }));
         assert_eq!(pick(x.lt(y)), scalar(&|p, q| if p < q { p } else { q }));
+        assert_eq!(bits(x.min_else(y)), pick(x.lt(y)));
+        assert_eq!(bits(x.max_else(y)), pick(x.gt(y)));
     }
 }

@@ -73,9 +73,9 @@ pub(crate) fn resolve_all(
 /// The walls' hold ([`Geometry::hold`]) of one coordinate per lane, `lo` and `hi` the walls.
 #[inline(always)]
 fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
-    let (lo, hi) = (L::splat(lo), L::splat(hi));
-    let v = L::select(v.gt(hi - r), hi - r, v);
-    L::select(v.lt(lo + r), lo + r, v)
+    let (lo, hi) = (L::splat(lo) + r, L::splat(hi) - r);
+    // `hi` where `v > hi`, then `lo` where `v < lo` (NaN kept): one instruction each.
+    lo.max_else(hi.min_else(v))
 }
 
 /// [`resolve_all`] with whether to prefetch (`PREFETCH`), whether the mass is the radius
