@@ -75,22 +75,19 @@ impl ExactSum {
             // mantissa 0 and adds 0.)
             let mantissa = (bits & ((1 << 52) - 1)) | (u64::from(exponent != 0) << 52);
             let position = exponent.saturating_sub(1);
-            let (lane, shift) = ((position / 32) as usize, position % 32);
-            // `mantissa << shift` (85 bits at most) as its lowest 32 bits and the rest (below
-            // 2^52), in two lanes: no 128-bit shift and one lane fewer than 32-bit pieces
-            // (the virial is a fifth of a settled pile's resolution).
-            let pieces = [
-                ((mantissa << shift) & 0xffff_ffff) as i64,
-                (mantissa >> (32 - shift)) as i64,
-            ];
+            // `position < 2046`, so `lane < 64` (the mask says so to the compiler, which then
+            // needs no bounds check for `lane + 1 < LANES`).
+            let (lane, shift) = ((position / 32) as usize & 63, position % 32);
             // The sign applied without a branch (terms of either sign come at random): all
-            // ones where negative, so `(piece ^ sign) - sign` is `-piece` there and `piece`
-            // else.
+            // ones where negative, so `(m ^ sign) - sign` is `-m` there and `m` else.
             let sign = -((bits >> 63) as i64);
-            // `position < 2046`, so `lane + 1 < 65 < LANES`.
-            for (slot, piece) in lanes[lane..lane + 2].iter_mut().zip(pieces) {
-                *slot += (piece ^ sign) - sign;
-            }
+            let signed = (mantissa as i64 ^ sign) - sign;
+            // `signed × 2^shift` (85 bits at most) as its lowest 32 bits (two's complement,
+            // in `[0, 2^32)`) and the rest (the arithmetic shift's floor, below 2^52 in
+            // magnitude), in two lanes: no 128-bit shift and one lane fewer than 32-bit
+            // pieces (the virial is a fifth of a settled pile's resolution).
+            lanes[lane] += signed.wrapping_shl(shift) & 0xffff_ffff;
+            lanes[lane + 1] += signed >> (32 - shift);
         }
     }
 
