@@ -913,7 +913,11 @@ unsafe fn test_kind(
     let min_image = ctx.geometry.min_image();
     let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
     let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
-    let pair = |i: usize, j: usize| law.collision_distance(p.radius[i], p.radius[j]);
+    // SAFETY (of the reads): every candidate index is below `p.len()` (the callers'
+    // promise), the radii's length.
+    let pair = |i: usize, j: usize| unsafe {
+        law.collision_distance(*p.radius.get_unchecked(i), *p.radius.get_unchecked(j))
+    };
     let uniform = uniform
         .map(|r| law.collision_distance(r, r))
         .filter(|d| d.is_finite());
@@ -1053,7 +1057,10 @@ unsafe fn test<const UNIFORM: bool>(
             };
             let [dx, dy] = diff(xi, yi, xj, yj);
             let d2 = dx * dx + dy * dy;
-            hits[n] = k as u16;
+            debug_assert!(n <= k && k < SCREEN);
+            // SAFETY: `n` counts hits among the `k` candidates before this one, and a chunk
+            // holds at most `SCREEN`: `n <= k < SCREEN`.
+            unsafe { *hits.get_unchecked_mut(n) = k as u16 };
             n += if UNIFORM {
                 d2 <= limit
             } else {
