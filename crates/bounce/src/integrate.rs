@@ -418,7 +418,8 @@ impl<'r> Pass<'r> {
         let (lo_x, lo_y) = (F64x2::splat(inner_min[0]), F64x2::splat(inner_min[1]));
         let (hi_x, hi_y) = (F64x2::splat(inner_max[0]), F64x2::splat(inner_max[1]));
         let zero = F64x2::splat(0.0);
-        let max = |acc: F64x2, v: F64x2| F64x2::select(v.gt(acc), v, acc);
+        // `v` where `v > acc`, else `acc` (NaN skipped): `maxpd`, one instruction.
+        let max = |acc: F64x2, v: F64x2| v.max_else(acc);
         let (mut speed2, mut displacement2, mut kept2) = (zero, zero, zero);
         let mut impulse = WallSums::default();
         let mut strays = [0u32; CHUNK_STRAYS + 1];
