@@ -1094,7 +1094,9 @@ unsafe fn test<const UNIFORM: bool>(
             let [dx, dy] = diff(at_i[0], at_i[1], at_j[0], at_j[1]);
             if UNIFORM {
                 // The screen was the exact test; the same bits give the same distance.
-                nearest2 = nearest2.min(dx * dx + dy * dy);
+                // (Neither is ever NaN here: a NaN distance fails the screen.)
+                let d2 = dx * dx + dy * dy;
+                nearest2 = if d2 < nearest2 { d2 } else { nearest2 };
             } else {
                 let reach = reach(i, j);
                 // The seed's exact test on the distance itself (so rounding matches

@@ -231,7 +231,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     let list = &contacts.list[..];
     // The `k`th contacts of runs that touch disjoint discs, one per lane.
     //
-    // SAFETY (for callers): the runs touch disjoint discs, as for `resolve`.
+    // SAFETY (for callers): the runs touch disjoint discs, as for `resolve`; there are at
+    // least `L::LANES` of them, each a range of `list` longer than `k`.
     #[inline(always)]
     unsafe fn side_by_side<L: Lanes>(
         list: &[Contact],
@@ -241,7 +242,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         virial: &mut ExactSum,
     ) {
         let pair = |lane: usize| {
-            let contact = &list[runs[lane].start + k];
+            debug_assert!(lane < runs.len() && runs[lane].start + k < runs[lane].end);
+            debug_assert!(runs[lane].end <= list.len());
+            // SAFETY: as the caller promises (the lanes' runs exist and hold contact `k`).
+            let contact = unsafe { list.get_unchecked(runs.get_unchecked(lane).start + k) };
             (contact.a as usize, contact.b as usize)
         };
         // SAFETY: as the caller promises.
@@ -279,7 +283,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             let steps = runs.iter().map(|run| run.len()).min().unwrap_or(0);
             for k in 0..steps {
                 prefetch_ahead(runs, k);
-                // SAFETY: one contact of each of `lanes` quarters: disjoint discs.
+                // SAFETY: one contact of each of `lanes` quarters (`k` below every live
+                // run's length, ranges of the list): disjoint discs.
                 unsafe {
                     match lanes {
                         4 => side_by_side::<F64x4>(list, runs, k, &discs, virial),
