@@ -60,20 +60,11 @@ impl Contact {
     /// first, keyed by its block. (Slices, not `Particles`: the hot loop keeps them in
     /// registers.)
     #[inline(always)]
-    fn of(id: &[ParticleId], xy: [&[f64]; 2], grid: &OrderGrid, i: usize, j: usize) -> Self {
-        Self::keyed(id, xy, i, j, |x, y| grid.key(x, y))
-    }
-
-    /// [`Contact::of`] with the key of the lower-id disc's position given by `key`.
-    #[inline(always)]
-    fn keyed(
-        id: &[ParticleId],
-        [x, y]: [&[f64]; 2],
-        i: usize,
-        j: usize,
-        key: impl FnOnce(f64, f64) -> u64,
-    ) -> Self {
-        Self::of_values([i, j], [id[i], id[j]], [[x[i], y[i]], [x[j], y[j]]], key)
+    fn of(id: &[ParticleId], [x, y]: [&[f64]; 2], grid: &OrderGrid, i: usize, j: usize) -> Self {
+        let at = |k: usize| [x[k], y[k]];
+        Self::of_values([i, j], [id[i], id[j]], [at(i), at(j)], |x, y| {
+            grid.key(x, y)
+        })
     }
 
     /// The contact of discs `i` and `j` given their ids and positions (which the test has

@@ -42,9 +42,6 @@ impl ExactSum {
     /// Adds `v` exactly.
     #[inline]
     pub fn add(&mut self, v: f64) {
-        if v == 0.0 {
-            return;
-        }
         self.add_all(&[v]);
     }
 
