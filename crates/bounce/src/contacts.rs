@@ -963,12 +963,18 @@ fn merge_sorted(
     debug_assert!(rest.is_empty() && moved_start == moved.len());
     ctx.exec
         .for_each_mut(total, &mut pieces, |_, (out, run, moved)| {
-            // Moved contacts are few: each finds its place in the run by bisection, and the
-            // run's contacts between two places are copied as one block (most pieces have
-            // none, and are one copy).
+            // Moved contacts are few: each finds its place in the run by a walk from the
+            // last one's, and the run's contacts between two places are copied as one block
+            // (a piece with none is one copy). The walk reads the lines
+            // the copy reads next, in order; a bisection of the run (a pile's hundred moved
+            // contacts a run) waited for a cache miss at nearly every probe, 5 % of the
+            // settled pile's time.
             let (mut r, mut at) = (0, 0);
             for m in moved.iter() {
-                let place = r + run[r..].partition_point(|c| order(c) < order(m));
+                let mut place = r;
+                while place < run.len() && order(&run[place]) < order(m) {
+                    place += 1;
+                }
                 let next = at + place - r;
                 out[at..next].write_copy_of_slice(&run[r..place]);
                 out[next].write(*m);
