@@ -131,10 +131,15 @@ pub(crate) struct Contacts {
     /// the candidates are kept in canonical order instead of sorting the contacts.
     dense: bool,
     /// The listing the last detection tested, and how many detections have tested it.
-    listing: (u64, u32),
+    pub(crate) listing: (u64, u32),
+    /// How many detections tested the listing before it.
+    last_listing_uses: u32,
     /// Always sort the contacts (a test compares the two ways).
     #[cfg(test)]
     pub(crate) never_presort: bool,
+    /// How many detections sorted their contacts (a test counts them).
+    #[cfg(test)]
+    pub(crate) sorted_detections: usize,
 }
 
 /// The near band's candidates in canonical order: each pair lower id first, in the order
@@ -161,6 +166,9 @@ const CANDIDATES_PER_CHUNK: usize = 16384;
 /// a few detections' sorts, worth it only for lists that last (a resting pile keeps one for
 /// dozens of substeps; a fast gas lists anew every step or two).
 const DETECTIONS_BEFORE_PRESORT: u32 = 3;
+/// A new list is presorted at once when the one before it was tested more often than this:
+/// lists last about as long as the one before.
+const LASTING_LISTING_USES: u32 = 4 * DETECTIONS_BEFORE_PRESORT;
 /// Contacts are dense (a pile: the candidates are worth keeping in canonical order) when
 /// at least this share of the candidates tested collide. A gas has about 1.5 %, a pile 35 %.
 const DENSE_SHARE: f64 = 0.125;
@@ -269,14 +277,26 @@ impl Contacts {
         let generation = broadphase.generation();
         self.listing = match self.listing {
             (listed, count) if listed == generation => (listed, count.saturating_add(1)),
-            _ => (generation, 1),
+            (_, count) => {
+                self.last_listing_uses = count;
+                (generation, 1)
+            }
         };
+        // A list lasts once enough detections have tested it, or at once where the last
+        // one lasted: a resting pile lists anew every dozen steps or so, each time for
+        // dozens of detections, and three of them sorted before the presort cost as much
+        // again as the presort.
         let lasting = self.listing.1 > DETECTIONS_BEFORE_PRESORT
+            || self.last_listing_uses > LASTING_LISTING_USES
             || self.presorted.generation == Some(generation);
         let max_overlap = if presort && self.dense && lasting && ctx.stack_order.is_none() {
             self.presort(broadphase, p, &grid, ctx);
             self.find_presorted(broadphase, bands, p, &grid, ctx)
         } else {
+            #[cfg(test)]
+            {
+                self.sorted_detections += 1;
+            }
             self.find_sorting(broadphase, bands, p, &grid, ctx, tested)
         };
         self.split();
@@ -768,6 +788,12 @@ impl Contacts {
     #[cfg(test)]
     pub(crate) fn presorted(&self) -> bool {
         self.presorted.generation.is_some()
+    }
+
+    /// The listing the presorted candidates are from.
+    #[cfg(test)]
+    pub(crate) fn presorted_generation(&self) -> Option<u64> {
+        self.presorted.generation
     }
 
     /// Segment `segment` cut in four at block boundaries, as [`Contacts::halves_of`] cuts it

@@ -405,6 +405,48 @@ fn presorted_candidates_give_the_bits_of_sorted_contacts() {
 }
 
 #[test]
+fn a_new_list_after_a_lasting_one_is_presorted_at_once() {
+    // A settled pile lists anew now and then, each list lasting dozens of detections: the
+    // next list's candidates are presorted at its first detection, with no sorted ones
+    // before (three, before the presort, when the list before did not last). Same bits as
+    // never presorting.
+    let boundary = Boundary::walls([0.0, 0.0], [40.0, 80.0]);
+    let mut worlds = [true, false].map(|presort| {
+        let mut world = settling_pile(&boundary);
+        world.contacts.never_presort = !presort;
+        world
+    });
+    for world in &mut worlds {
+        // Settled: the list has lasted for many detections.
+        for _ in 0..300 {
+            world.step(1.0 / 60.0).unwrap();
+        }
+    }
+    let uses = worlds[0].contacts.listing.1;
+    assert!(uses > 40, "the last list lasted {uses} detections");
+    for world in &mut worlds {
+        world.relist();
+    }
+    let sorted = worlds[0].contacts.sorted_detections;
+    for world in &mut worlds {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    assert_eq!(worlds[0].profile().rebuilds, 1);
+    assert_eq!(worlds[0].contacts.sorted_detections, sorted, "sorted after relisting");
+    assert_eq!(
+        worlds[0].contacts.presorted_generation(),
+        Some(worlds[0].broadphase.generation())
+    );
+    for _ in 0..20 {
+        for world in &mut worlds {
+            world.step(1.0 / 60.0).unwrap();
+        }
+    }
+    assert_eq!(worlds[0].state_hash(), worlds[1].state_hash());
+    assert_eq!(worlds[0].stats(), worlds[1].stats());
+}
+
+#[test]
 fn strays_change_nothing_but_how_often_lists_are_made() {
     // The same worlds with strays met alone and with every stray forcing a new list: the
     // same contacts every step (count, largest overlap, their virial and the walls' exact
