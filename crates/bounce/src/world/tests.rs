@@ -432,7 +432,10 @@ fn a_new_list_after_a_lasting_one_is_presorted_at_once() {
         world.step(1.0 / 60.0).unwrap();
     }
     assert_eq!(worlds[0].profile().rebuilds, 1);
-    assert_eq!(worlds[0].contacts.sorted_detections, sorted, "sorted after relisting");
+    assert_eq!(
+        worlds[0].contacts.sorted_detections, sorted,
+        "sorted after relisting"
+    );
     assert_eq!(
         worlds[0].contacts.presorted_generation(),
         Some(worlds[0].broadphase.generation())
