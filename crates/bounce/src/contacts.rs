@@ -67,6 +67,23 @@ impl Contact {
         })
     }
 
+    /// The contact of discs `i` and `j` (storage indices into `id` and `keys`, each disc's
+    /// block key): lower id first, keyed by its disc's key.
+    #[inline(always)]
+    fn of_keys([i, j]: [usize; 2], id: &[ParticleId], keys: &[u64]) -> Self {
+        let (id_i, id_j) = (u64::from(id[i].0), u64::from(id[j].0));
+        // (Without a branch, as in `of_values`.)
+        let lower_first = id_i < id_j;
+        let select =
+            |first: u64, second: u64| std::hint::select_unpredictable(lower_first, first, second);
+        Contact {
+            key: select(keys[i], keys[j]),
+            ids: (select(id_i, id_j) << 32) | select(id_j, id_i),
+            a: select(i as u64, j as u64) as u32,
+            b: select(j as u64, i as u64) as u32,
+        }
+    }
+
     /// The contact of discs `i` and `j` given their ids and positions (which the test has
     /// read already): lower id first, keyed by `key` of the lower-id disc's position.
     #[inline(always)]
@@ -124,6 +141,8 @@ pub(crate) struct Contacts {
     bucket_start: Vec<u32>,
     /// The near candidates in canonical order, when contacts are dense.
     presorted: Presorted,
+    /// Each disc's order-grid block key, for the presort (kept between presorts).
+    disc_keys: Vec<u64>,
     /// Contacts the presorted path found out of place (their lower-id disc changed block
     /// since the presort, or from the far band), per chunk.
     out_of_place: Vec<Vec<Contact>>,
@@ -140,6 +159,9 @@ pub(crate) struct Contacts {
     /// How many detections sorted their contacts (a test counts them).
     #[cfg(test)]
     pub(crate) sorted_detections: usize,
+    /// How many contacts each presorted detection found out of place (a test reads them).
+    #[cfg(test)]
+    pub(crate) moved_contacts: Vec<usize>,
 }
 
 /// The near band's candidates in canonical order: each pair lower id first, in the order
@@ -160,6 +182,8 @@ struct Presorted {
     chunks: Vec<Range<usize>>,
 }
 
+/// Discs a task keys for the presort.
+const KEY_CHUNK: usize = 16 * crate::parallel::CHUNK;
 /// Blocks of presorted candidates tested together: about this many candidates.
 const CANDIDATES_PER_CHUNK: usize = 16384;
 /// Candidates are presorted once this many detections have tested them: sorting them costs
@@ -397,17 +421,31 @@ impl Contacts {
         if self.presorted.generation == Some(broadphase.generation()) {
             return;
         }
+        // Each disc's block, worked out once: a pile's disc has four or five near
+        // candidates, and the key was most of making each one a contact-to-be.
+        let n = p.len();
+        self.disc_keys.resize(n, 0);
+        let mut chunks: Vec<(usize, &mut [u64])> =
+            self.disc_keys.chunks_mut(KEY_CHUNK).enumerate().collect();
+        ctx.exec.for_each_mut(n, &mut chunks, |_, (c, keys)| {
+            let base = *c * KEY_CHUNK;
+            let (x, y) = (&p.x[base..base + keys.len()], &p.y[base..base + keys.len()]);
+            for ((key, &x), &y) in keys.iter_mut().zip(x).zip(y) {
+                *key = grid.key(x, y);
+            }
+        });
         // Every near candidate as a contact-to-be, sorted like contacts.
         let candidates = &broadphase.candidates;
         self.found.resize_with(candidates.len(), Vec::new);
         self.found.truncate(candidates.len());
         let work = candidates.iter().map(|b| b[0].len()).sum();
+        let disc_keys = &self.disc_keys[..];
         let bounds = ctx.exec.map_mut(work, &mut self.found, |block, found| {
             found.clear();
             found.extend(
                 candidates[block][0]
                     .iter()
-                    .map(|&[i, j]| Contact::of(&p.id, [&p.x, &p.y], grid, i as usize, j as usize)),
+                    .map(|&[i, j]| Contact::of_keys([i as usize, j as usize], &p.id, disc_keys)),
             );
             BlockBounds::of(found)
         });
@@ -561,6 +599,8 @@ impl Contacts {
         let stray_overlap = Self::stray_contacts(broadphase, p, grid, ctx, &mut moved);
         max_overlap = max_overlap.max(stray_overlap);
         moved.sort_unstable_by_key(|c| (c.key, c.ids));
+        #[cfg(test)]
+        self.moved_contacts.push(moved.len());
         merge_sorted(&self.found, &moved, &mut self.list, ctx);
         max_overlap
     }
