@@ -892,12 +892,12 @@ impl Contacts {
     }
 }
 
-/// [`Contacts::bucket_sort`]'s counting and placing on `parts` threads: the found lists cut
-/// into `parts` runs of about equal contacts, each run counting its contacts per bucket
-/// (`buckets` counts a run), each bucket's slots given to the runs in order, and each run
-/// placing its own contacts into `spare` (all `total` of its slots). Afterwards `starts[b]`
-/// holds the end of bucket `b`, as after the serial placement, and every bucket holds the
-/// same contacts in the same order (the runs' in turn, each in its lists' order).
+/// [`Contacts::bucket_sort`]'s counting and placing on `parts` threads: the found lists are
+/// cut into `parts` runs of about equal contacts, each run counts its contacts into
+/// `buckets` counts of its own, each bucket's slots go to the runs in order, and each run
+/// places its own contacts into `spare` (every slot of which is written). Afterwards
+/// `starts[b]` holds the end of bucket `b`, as after the serial placement, and every bucket
+/// holds the same contacts in the same order (the runs' in turn, each in its lists' order).
 fn place_in_parts(
     found: &[Vec<Contact>],
     parts: usize,
