@@ -150,7 +150,7 @@ pub(crate) struct Contacts {
     /// the candidates are kept in canonical order instead of sorting the contacts.
     dense: bool,
     /// The listing the last detection tested, and how many detections have tested it.
-    pub(crate) listing: (u64, u32),
+    listing: (u64, u32),
     /// How many detections tested the listing before it.
     last_listing_uses: u32,
     /// Always sort the contacts (a test compares the two ways).
@@ -836,6 +836,12 @@ impl Contacts {
     #[cfg(test)]
     pub(crate) fn presorted(&self) -> bool {
         self.presorted.generation.is_some()
+    }
+
+    /// How many detections have tested the current listing.
+    #[cfg(test)]
+    pub(crate) fn listing_uses(&self) -> u32 {
+        self.listing.1
     }
 
     /// The listing the presorted candidates are from.

@@ -422,7 +422,7 @@ fn a_new_list_after_a_lasting_one_is_presorted_at_once() {
             world.step(1.0 / 60.0).unwrap();
         }
     }
-    let uses = worlds[0].contacts.listing.1;
+    let uses = worlds[0].contacts.listing_uses();
     assert!(uses > 40, "the last list lasted {uses} detections");
     for world in &mut worlds {
         world.relist();
