@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use bounce::scene::{self, Gas, Speeds};
+use bounce::scene::{self, Bench, Gas, Speeds};
 use bounce::{Boundary, Config, Obstacle, Particle, World};
 
 /// What a scene is made of.
@@ -106,10 +106,11 @@ impl SceneKind {
 
     /// The scene's physics, without discs.
     fn physics(&self) -> ([f64; 2], f64, u32) {
-        match self.kind {
-            Kind::SettledPile => ([0.0, -9.81], 0.7, 4),
-            _ => ([0.0, 0.0], 1.0, 1),
-        }
+        let scene = match self.kind {
+            Kind::SettledPile => Bench::Pile,
+            _ => Bench::Gas,
+        };
+        scene.physics()
     }
 
     /// The initial state, in spatial order. A settled pile comes from `cache` (made by
@@ -118,11 +119,9 @@ impl SceneKind {
         let n = self.n;
         let (gravity, restitution, substeps) = self.physics();
         let (config, mut discs) = match self.kind {
-            Kind::Gas | Kind::SettledPile | Kind::Pegs => {
-                scene::gas_in_walls(n, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1)?
-            }
-            Kind::Fast => scene::gas_in_walls(n, [0.5, 0.5], 0.3, Speeds::Uniform(40.0), 1)?,
-            Kind::Poly => scene::gas_in_walls(n, [0.05, 5.0], 0.3, Speeds::Uniform(2.0), 1)?,
+            Kind::Gas | Kind::SettledPile | Kind::Pegs => Bench::Gas.build(n)?,
+            Kind::Fast => Bench::Fast.build(n)?,
+            Kind::Poly => Bench::Poly.build(n)?,
             Kind::Dense => {
                 let side = (n as f64 * std::f64::consts::PI * 0.25 / 0.7).sqrt();
                 let config = Config {
@@ -180,7 +179,7 @@ impl SceneKind {
             max,
             gravity,
             restitution,
-            dt: 1.0 / 60.0,
+            dt: Bench::DT,
             substeps,
             obstacles,
         })
@@ -199,14 +198,7 @@ impl SceneKind {
         if self.kind != Kind::SettledPile || self.cache_file(cache).exists() {
             return Ok(());
         }
-        let (gravity, restitution, substeps) = self.physics();
-        let (config, _) = scene::gas_in_walls(self.n, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1)?;
-        let config = Config {
-            gravity,
-            coefficient_of_restitution: restitution,
-            substeps,
-            ..config
-        };
+        let (config, _) = Bench::Pile.build(self.n)?;
         let (_, max) = config.boundary.bounds().context("walls")?;
         let height = self.n as f64 * std::f64::consts::PI * 0.25 / (0.8 * max[0]);
         let gas = Gas {
@@ -225,7 +217,7 @@ impl SceneKind {
         world.set_threads(2)?;
         eprintln!("settling {} ...", self.name());
         for _ in 0..300 {
-            world.step(1.0 / 60.0)?;
+            world.step(Bench::DT)?;
         }
         eprintln!(
             "settled {} for 300 steps: kinetic energy {:.3e}, largest overlap {:.3}",

@@ -2,7 +2,7 @@
 //! fraction 0.3, walls, e = 1, velocities uniform in [-2, 2]², dt = 1/60) on one thread.
 
 use bounce::World;
-use bounce::scene::{self, Speeds};
+use bounce::scene::Bench;
 
 fn main() {
     divan::main();
@@ -10,12 +10,11 @@ fn main() {
 
 /// The benchmark gas of `count` discs, settled for a few steps.
 fn gas(count: usize) -> World {
-    let (config, discs) =
-        scene::gas_in_walls(count, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 1).expect("gas fits");
+    let (config, discs) = Bench::Gas.build(count).expect("gas fits");
     let mut world = World::new(config).expect("valid config");
     world.add_particles(discs).expect("valid discs");
     for _ in 0..5 {
-        world.step(1.0 / 60.0).expect("valid dt");
+        world.step(Bench::DT).expect("valid dt");
     }
     world
 }
@@ -24,6 +23,6 @@ fn gas(count: usize) -> World {
 fn step_one_thread(bencher: divan::Bencher, count: usize) {
     let mut world = gas(count);
     bencher.bench_local(|| {
-        world.step(1.0 / 60.0).expect("valid dt");
+        world.step(Bench::DT).expect("valid dt");
     });
 }

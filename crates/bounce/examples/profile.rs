@@ -11,7 +11,7 @@
 //! that runs on the pool (`World::set_parallel_min_work`); `RELIST=1` lists the candidates
 //! anew every step (`World::relist`), so the rebuild's own cost can be timed over many.
 
-use bounce::scene::{self, Speeds};
+use bounce::scene::Bench;
 use bounce::{Particle, StepProfile, World};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -25,26 +25,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steps: usize = args.next().map(|a| a.parse()).transpose()?.unwrap_or(20);
     let kind = args.next().unwrap_or_else(|| "gas".into());
     let settled = args.next();
-    let (radius, speed) = match kind.as_str() {
-        "poly" => ([0.05, 5.0], 2.0),
-        "fast" => ([0.5, 0.5], 40.0),
-        _ => ([0.5, 0.5], 2.0),
+    let scene = match kind.as_str() {
+        "pile" => Bench::Pile,
+        "poly" => Bench::Poly,
+        "fast" => Bench::Fast,
+        _ => Bench::Gas,
     };
-    let (mut config, mut discs) =
-        scene::gas_in_walls(count, radius, 0.3, Speeds::Uniform(speed), 1)?;
+    let (config, mut discs) = scene.build(count)?;
     let mut warm_up = 4;
-    if kind == "pile" {
-        config.gravity = [0.0, -9.81];
-        config.coefficient_of_restitution = 0.7;
-        config.substeps = 4;
-        if let Some(path) = settled {
-            let bytes = std::fs::read(&path)?;
-            let f = |k: usize| f64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap());
-            discs = (0..bytes.len() / 24)
-                .map(|i| Particle::new([f(3 * i), f(3 * i + 1)], [0.0, 0.0], f(3 * i + 2)))
-                .collect();
-            warm_up = 30;
-        }
+    if scene == Bench::Pile
+        && let Some(path) = settled
+    {
+        let bytes = std::fs::read(&path)?;
+        let f = |k: usize| f64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap());
+        discs = (0..bytes.len() / 24)
+            .map(|i| Particle::new([f(3 * i), f(3 * i + 1)], [0.0, 0.0], f(3 * i + 2)))
+            .collect();
+        warm_up = 30;
     }
     let mut world = World::new(config)?;
     world
@@ -55,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         world.set_parallel_min_work(work);
     }
     for _ in 0..warm_up {
-        world.step(1.0 / 60.0)?;
+        world.step(Bench::DT)?;
     }
     let mut sum = StepProfile::default();
     let mut totals = Vec::new();
@@ -70,7 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             world.relist();
         }
         let clock = std::time::Instant::now();
-        pairs += world.step(1.0 / 60.0)?.pairs;
+        pairs += world.step(Bench::DT)?.pairs;
         totals.push(clock.elapsed().as_secs_f64());
         let p = world.profile();
         rebuilds += p.rebuilds;

@@ -493,6 +493,55 @@ pub fn gas_in_walls(
     Ok((config, discs))
 }
 
+/// The benchmark scenes, one definition for the harness (`bounce-bench`), the profiler
+/// (`examples/profile.rs`), the divan bench and the pinned hashes: a walled square box, discs
+/// at packing 0.3, dt = 1/60.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bench {
+    /// Radius 0.5, velocity components uniform in [-2, 2], e = 1, one substep.
+    Gas,
+    /// The gas's start under gravity (0, -9.81), e = 0.7, 4 substeps.
+    Pile,
+    /// Radii uniform in [0.05, 5], otherwise the gas.
+    Poly,
+    /// The gas with components uniform in [-40, 40]: a step moves a disc about its radius.
+    Fast,
+}
+
+impl Bench {
+    /// Every scene.
+    pub const ALL: [Bench; 4] = [Bench::Gas, Bench::Pile, Bench::Poly, Bench::Fast];
+
+    /// The time step every scene runs at.
+    pub const DT: f64 = 1.0 / 60.0;
+
+    /// The configuration and the discs (in creation order) of `count` discs.
+    pub fn build(self, count: usize) -> Result<(Config, Vec<Particle>), SceneError> {
+        let (radius, speed) = match self {
+            Bench::Poly => ([0.05, 5.0], 2.0),
+            Bench::Fast => ([0.5, 0.5], 40.0),
+            Bench::Gas | Bench::Pile => ([0.5, 0.5], 2.0),
+        };
+        let (config, discs) = gas_in_walls(count, radius, 0.3, Speeds::Uniform(speed), 1)?;
+        let (gravity, coefficient_of_restitution, substeps) = self.physics();
+        let config = Config {
+            gravity,
+            coefficient_of_restitution,
+            substeps,
+            ..config
+        };
+        Ok((config, discs))
+    }
+
+    /// The scene's gravity, restitution and substeps per step.
+    pub fn physics(self) -> ([f64; 2], f64, u32) {
+        match self {
+            Bench::Pile => ([0.0, -9.81], 0.7, 4),
+            Bench::Gas | Bench::Poly | Bench::Fast => ([0.0, 0.0], 1.0, 1),
+        }
+    }
+}
+
 /// Two independent standard normal numbers (Box–Muller).
 fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
     // 1 - u is in (0, 1], so the logarithm is finite.

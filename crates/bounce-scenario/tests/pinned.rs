@@ -1,0 +1,44 @@
+//! The pinned state hashes: every shipped template after 200 steps, on 1 and 2 threads.
+//!
+//! A refactor keeps these bits. A change that moves one changes the physics: make it on
+//! purpose, and say why in the change. (The benchmark scenes are pinned beside the core's
+//! tests, in `crates/bounce/tests/pinned.rs`.)
+
+use bounce_scenario::Session;
+
+/// `(template, state hash after 200 steps)`.
+const TEMPLATES: [(&str, u64); 8] = [
+    ("gas", 0xfdc4_568d_6ad9_5664),
+    ("pile", 0xc60b_c57a_5279_98e3),
+    ("galton-board", 0x2bd2_e9c4_9649_5597),
+    ("mixing", 0x0247_e866_964d_9480),
+    ("hourglass", 0xb72f_ad7d_d680_6ac2),
+    ("effusion", 0x9a90_83e2_7f01_da5f),
+    ("newtons-cradle", 0x03f5_e426_854e_f4b8),
+    ("piston", 0xb684_0245_0e20_5ce5),
+];
+
+fn hash_after(name: &str, threads: usize, steps: usize) -> u64 {
+    let mut session = Session::builtin(name).unwrap();
+    session.world.set_threads(threads).unwrap();
+    // Every parallel path runs, however small the world.
+    session.world.set_parallel_min_work(0);
+    for _ in 0..steps {
+        session.step().unwrap();
+    }
+    session.world.state_hash()
+}
+
+#[test]
+fn every_template_keeps_its_bits_on_one_and_two_threads() {
+    let mut wrong = Vec::new();
+    for (name, pinned) in TEMPLATES {
+        for threads in [1, 2] {
+            let hash = hash_after(name, threads, 200);
+            if hash != pinned {
+                wrong.push(format!("{name} on {threads} threads: {hash:#018x}"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "hashes moved:\n{}", wrong.join("\n"));
+}
