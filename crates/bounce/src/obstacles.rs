@@ -28,6 +28,7 @@ use crate::context::StepContext;
 use crate::law::{COINCIDENT_NORMAL, Law};
 use crate::parallel::CHUNK;
 use crate::particles::Particles;
+use crate::sum::ExactSum;
 
 /// The shape of an obstacle.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -536,8 +537,61 @@ pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut 
 pub(crate) struct Impacts {
     /// `(obstacle, momentum)` per collision, in chunk order, then disc order.
     pub list: Vec<(u32, [f64; 2])>,
-    /// Work done on the discs by moving obstacles, `Σ J_disc · u`.
+    /// Work done on the discs by moving obstacles, `Σ J_disc · u`, summed exactly.
+    pub work: ExactSum,
+}
+
+/// What the obstacles received over a step: the momentum of each, and the work moving ones
+/// did on the discs.
+#[derive(Debug)]
+pub(crate) struct Met {
+    pub impulses: Vec<[f64; 2]>,
     pub work: f64,
+}
+
+impl Met {
+    /// Nothing yet, for `count` obstacles.
+    pub(crate) fn new(count: usize) -> Met {
+        Met {
+            impulses: vec![[0.0; 2]; count],
+            work: 0.0,
+        }
+    }
+}
+
+/// One obstacle pass ([`resolve_obstacles`]) and its bookkeeping: the momentum each obstacle
+/// received and the work of moving ones go into `met`, and a driven obstacle takes the
+/// discs' momentum into its velocity at once (for the next pass). Each obstacle's impulses
+/// of the pass are summed exactly, so its velocity does not depend on the order the discs
+/// are stored in (which changes when the candidates are listed anew).
+pub(crate) fn meet(
+    p: &mut Particles,
+    trail: Option<&mut Trail>,
+    obstacles: &Obstacles,
+    states: &mut [ObstacleState],
+    config: &Config,
+    ctx: &StepContext,
+    met: &mut Met,
+) {
+    let mut impacts = resolve_obstacles(p, trail, obstacles, states, ctx);
+    met.work += impacts.work.value();
+    impacts.list.sort_by_key(|&(k, _)| k);
+    for hits in impacts.list.chunk_by(|a, b| a.0 == b.0) {
+        let k = hits[0].0 as usize;
+        let j = [0, 1].map(|axis| {
+            let mut sum = ExactSum::new();
+            for (_, j) in hits {
+                sum.add(j[axis]);
+            }
+            sum.value()
+        });
+        met.impulses[k][0] += j[0];
+        met.impulses[k][1] += j[1];
+        if let Motion::Driven { mass, .. } = config.obstacles[k].motion {
+            states[k].velocity[0] += j[0] / mass;
+            states[k].velocity[1] += j[1] / mass;
+        }
+    }
 }
 
 /// Where each disc was when it was last known to be on the right side of every segment, in
@@ -639,7 +693,7 @@ pub(crate) fn resolve_obstacles(
                     out.list.push((o, j));
                     // The work of the obstacle on the disc: the disc's impulse along `u`.
                     let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
-                    out.work += disc.mass * (dv[0] * u[0] + dv[1] * u[1]);
+                    out.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));
                 }
             }
             if disc != start {
@@ -656,7 +710,7 @@ pub(crate) fn resolve_obstacles(
     let mut total = Impacts::default();
     for part in partial {
         total.list.extend(part.list);
-        total.work += part.work;
+        total.work.merge(&part.work);
     }
     total
 }

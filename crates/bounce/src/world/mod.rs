@@ -18,7 +18,7 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::integrate::integrate;
 use crate::law::Law;
-use crate::obstacles::{self, ObstacleState, Obstacles, Shape, Trail};
+use crate::obstacles::{self, Met, ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
 use crate::part::{DiscRecord, Tally, Travel};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
@@ -349,10 +349,7 @@ impl World {
         // Segments can be crossed: discs are followed from where they were last on the
         // right side. Pegs have an inside, and need no trail.
         let follow = obstacles.needs_trail();
-        let mut met = Met {
-            impulses: vec![[0.0; 2]; self.config.obstacles.len()],
-            work: 0.0,
-        };
+        let mut met = Met::new(self.config.obstacles.len());
         // The last step's contacts per disc and substep (saved with the world, so a loaded
         // one decides as the original does).
         let last = &self.stats;
@@ -374,7 +371,7 @@ impl World {
             sums.walls.merge(&moved.impulse);
             if follow {
                 // Discs that flew through a segment in this substep go back.
-                meet_obstacles(
+                obstacles::meet(
                     &mut self.particles,
                     Some(&mut self.trail),
                     obstacles,
@@ -432,7 +429,7 @@ impl World {
                     bp.uniform_radius(),
                 ));
                 if has_obstacles {
-                    meet_obstacles(
+                    obstacles::meet(
                         &mut self.particles,
                         follow.then_some(&mut self.trail),
                         obstacles,
@@ -1066,38 +1063,6 @@ fn initial_states(config: &Config) -> Vec<ObstacleState> {
             velocity: o.initial_velocity(),
         })
         .collect()
-}
-
-/// What the obstacles met in a step: the momentum each received, and the work of the
-/// moving ones on the discs.
-struct Met {
-    impulses: Vec<[f64; 2]>,
-    work: f64,
-}
-
-/// One obstacle pass (`obstacles::resolve_obstacles`) and its bookkeeping: the momentum
-/// each obstacle received and the work of moving ones go into `met`, and a driven obstacle
-/// takes the discs' momentum into its velocity at once.
-fn meet_obstacles(
-    p: &mut Particles,
-    trail: Option<&mut Trail>,
-    obstacles: &Obstacles,
-    states: &mut [ObstacleState],
-    config: &Config,
-    ctx: &StepContext,
-    met: &mut Met,
-) {
-    let impacts = obstacles::resolve_obstacles(p, trail, obstacles, states, ctx);
-    met.work += impacts.work;
-    for (k, j) in impacts.list {
-        let k = k as usize;
-        met.impulses[k][0] += j[0];
-        met.impulses[k][1] += j[1];
-        if let crate::Motion::Driven { mass, .. } = config.obstacles[k].motion {
-            states[k].velocity[0] += j[0] / mass;
-            states[k].velocity[1] += j[1] / mass;
-        }
-    }
 }
 
 /// Where each id is stored: a table by id while ids are dense, else the sorted pairs (ids
