@@ -29,6 +29,18 @@ fn hash_after(name: &str, threads: usize, steps: usize) -> u64 {
     session.world.state_hash()
 }
 
+/// The plain step (`bounce::plain`) gives every template its pinned bits too.
+#[test]
+fn the_plain_step_gives_every_template_its_pinned_bits() {
+    for (name, pinned) in TEMPLATES {
+        let mut session = Session::builtin(name).unwrap();
+        for _ in 0..200 {
+            bounce::plain::step(&mut session.world, session.dt).unwrap();
+        }
+        assert_eq!(session.world.state_hash(), pinned, "{name}");
+    }
+}
+
 #[test]
 fn every_template_keeps_its_bits_on_one_and_two_threads() {
     let mut wrong = Vec::new();

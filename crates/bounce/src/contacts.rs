@@ -979,7 +979,7 @@ fn sort_block<K: Ord>(block: &mut [Contact], within: &impl Fn(&Contact) -> K) {
 }
 
 /// `v`'s bits mapped so that unsigned order is `f64::total_cmp`'s order.
-fn ordered_bits(v: f64) -> u64 {
+pub(crate) fn ordered_bits(v: f64) -> u64 {
     let bits = v.to_bits();
     if bits >> 63 == 1 {
         !bits
@@ -1390,10 +1390,10 @@ pub fn order_block_start(config: &crate::Config, max_radius: f64, axis: usize, v
 
 /// The grid that fixes the canonical order of contacts.
 #[derive(Clone, Copy, Debug)]
-struct OrderGrid([OrderAxis; 2]);
+pub(crate) struct OrderGrid([OrderAxis; 2]);
 
 impl OrderGrid {
-    fn new(geometry: &Geometry, law: &Law, max_radius: f64) -> Self {
+    pub(crate) fn new(geometry: &Geometry, law: &Law, max_radius: f64) -> Self {
         let cell = cell_width(law, max_radius);
         OrderGrid([0, 1].map(|axis| match geometry.order_axis(axis) {
             OrderAxisFrame {
@@ -1433,7 +1433,7 @@ impl OrderGrid {
     /// row's parity (colours 0 and 1 before 2 and 3), the column's (the colour within the
     /// pair) and the column.
     #[inline]
-    fn key(&self, x: f64, y: f64) -> u64 {
+    pub(crate) fn key(&self, x: f64, y: f64) -> u64 {
         block_key(self.0[0].block(x), self.0[1].block(y))
     }
 

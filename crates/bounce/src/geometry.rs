@@ -300,6 +300,28 @@ pub(crate) fn reflect(
     (0.0, 0.0)
 }
 
+/// One axis of the walls as contacts (the solver's later passes): a disc of radius `r` and
+/// mass `m` at `position` that touches a wall and moves into it bounces. Returns the impulse
+/// given to the low and the high wall.
+#[inline]
+pub(crate) fn touch_walls(
+    position: f64,
+    v: &mut f64,
+    r: f64,
+    m: f64,
+    lo: f64,
+    hi: f64,
+    e: f64,
+) -> [f64; 2] {
+    if position <= lo + r && *v < 0.0 {
+        [bounce(v, e, m), 0.0]
+    } else if position >= hi - r && *v > 0.0 {
+        [0.0, bounce(v, e, m)]
+    } else {
+        [0.0; 2]
+    }
+}
+
 /// A wall's bounce of a disc of mass `m` moving into it at normal velocity `v`: reversed and
 /// scaled by `e`. Returns the momentum given to the wall, `m |Δv|`.
 #[inline]

@@ -84,6 +84,15 @@ impl Law {
         distance <= self.collision_distance(r1, r2)
     }
 
+    /// The seed's detection rule with what it measured: `Some(overlap)`, the collision
+    /// distance less the distance (0 when touching), when the pair collides.
+    #[inline(always)]
+    pub fn overlap(&self, diff: [f64; 2], r1: f64, r2: f64) -> Option<f64> {
+        let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
+        let reach = self.collision_distance(r1, r2);
+        (distance <= reach).then_some(reach - distance)
+    }
+
     /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
     #[inline(always)]
     pub fn mass(&self, radius: f64, per_particle: f64) -> f64 {

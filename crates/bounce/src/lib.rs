@@ -51,6 +51,7 @@ mod obstacles;
 mod parallel;
 mod part;
 mod particles;
+pub mod plain;
 mod resolve;
 pub mod scene;
 mod sources;

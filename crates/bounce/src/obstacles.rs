@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::Config;
 use crate::context::StepContext;
+use crate::geometry::MinImage;
 use crate::law::{COINCIDENT_NORMAL, Law};
 use crate::parallel::CHUNK;
 use crate::particles::Particles;
@@ -573,7 +574,17 @@ pub(crate) fn meet(
     ctx: &StepContext,
     met: &mut Met,
 ) {
-    let mut impacts = resolve_obstacles(p, trail, obstacles, states, ctx);
+    let impacts = resolve_obstacles(p, trail, obstacles, states, ctx);
+    take_impacts(impacts, config, states, met);
+}
+
+/// The bookkeeping of one obstacle pass's `impacts` (see [`meet`]).
+pub(crate) fn take_impacts(
+    mut impacts: Impacts,
+    config: &Config,
+    states: &mut [ObstacleState],
+    met: &mut Met,
+) {
     met.work += impacts.work.value();
     impacts.list.sort_by_key(|&(k, _)| k);
     for hits in impacts.list.chunk_by(|a, b| a.0 == b.0) {
@@ -625,6 +636,7 @@ pub(crate) fn resolve_obstacles(
     ctx: &StepContext,
 ) -> Impacts {
     let (law, exec, geometry) = (&ctx.law, ctx.exec, ctx.geometry);
+    let min_image = geometry.min_image();
     let velocities: Vec<[f64; 2]> = states.iter().map(|s| s.velocity).collect();
     let radius = &p.radius;
     let mass = &p.mass;
@@ -655,7 +667,7 @@ pub(crate) fn resolve_obstacles(
             let i = *base + k;
             let near = obstacles.grid.near(x[k], y[k]);
             let from = if followed {
-                [x0[k], y0[k]]
+                path_start(&min_image, [x0[k], y0[k]], [x[k], y[k]])
             } else {
                 [x[k], y[k]]
             };
@@ -715,10 +727,22 @@ pub(crate) fn resolve_obstacles(
     total
 }
 
+/// Where a disc's path to `position` starts, for a disc last marked at `mark`: the mark
+/// itself, or in a periodic box its image nearest `position` (a disc that wrapped across the
+/// box's edge did not travel across the box).
+#[inline]
+pub(crate) fn path_start(min_image: &MinImage, mark: [f64; 2], position: [f64; 2]) -> [f64; 2] {
+    if !min_image.is_periodic() {
+        return mark;
+    }
+    let d = min_image.diff(position[0], position[1], mark[0], mark[1]);
+    [position[0] - d[0], position[1] - d[1]]
+}
+
 /// If the centre's path from `from` to `position` crosses `shape` (a segment), puts the
 /// centre back on `from`'s side, `reach` from the crossing point along the segment's normal.
 #[inline]
-fn uncross(shape: &Shape, from: [f64; 2], position: &mut [f64; 2], reach: f64) {
+pub(crate) fn uncross(shape: &Shape, from: [f64; 2], position: &mut [f64; 2], reach: f64) {
     let Shape::Segment { a, b } = *shape else {
         return;
     };

@@ -19,7 +19,7 @@ use crate::config::MassModel;
 use crate::contacts::{Contact, Contacts};
 use crate::context::StepContext;
 use crate::geometry::MinImage;
-use crate::geometry::{Geometry, bounce};
+use crate::geometry::{Geometry, touch_walls};
 use crate::lanes::{F64x2, F64x4, Lanes};
 use crate::law::{Law, resolve_lanes};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
@@ -365,15 +365,6 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
             .map(|(c, (vx, vy))| (c * CHUNK, vx, vy))
             .collect();
     // One axis: the impulse on the low and the high wall.
-    let touch = |position: f64, v: &mut f64, r: f64, m: f64, lo: f64, hi: f64| {
-        if position <= lo + r && *v < 0.0 {
-            [bounce(v, e, m), 0.0]
-        } else if position >= hi - r && *v > 0.0 {
-            [0.0, bounce(v, e, m)]
-        } else {
-            [0.0; 2]
-        }
-    };
     let partial = ctx
         .exec
         .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy)| {
@@ -382,8 +373,8 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
                 let i = *base + k;
                 let r = radius[i];
                 let m = law.mass(r, mass[i]);
-                let [left, right] = touch(x[i], vx, r, m, min[0], max[0]);
-                let [bottom, top] = touch(y[i], vy, r, m, min[1], max[1]);
+                let [left, right] = touch_walls(x[i], vx, r, m, min[0], max[0], e);
+                let [bottom, top] = touch_walls(y[i], vy, r, m, min[1], max[1], e);
                 if tally.is_none_or(|t| t.counts(x[i], y[i])) {
                     impulse.add([left, right, bottom, top]);
                 }

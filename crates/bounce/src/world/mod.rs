@@ -41,12 +41,12 @@ use state::{WorldState, serialize_reference};
 #[derive(Debug, Serialize, Deserialize)]
 #[serde(try_from = "WorldState")]
 pub struct World {
-    config: Config,
-    particles: Particles,
+    pub(crate) config: Config,
+    pub(crate) particles: Particles,
     next_id: u32,
     time: f64,
     steps: u64,
-    stats: StepStats,
+    pub(crate) stats: StepStats,
     #[serde(skip)]
     profile: StepProfile,
     /// What the last measurement found: the fastest disc and the smallest radius choose
@@ -56,16 +56,16 @@ pub struct World {
     /// Saved as its reference positions: when the candidate list is rebuilt decides the
     /// storage order, and so the last bits of the energy and impulse sums.
     #[serde(rename = "reference", serialize_with = "serialize_reference")]
-    broadphase: Broadphase,
+    pub(crate) broadphase: Broadphase,
     /// Where each obstacle of the configuration is and how fast it moves (moving ones).
-    obstacle_states: Vec<ObstacleState>,
+    pub(crate) obstacle_states: Vec<ObstacleState>,
     /// The momentum each obstacle received in the last step.
     obstacle_impulses: Vec<[f64; 2]>,
     /// The work moving obstacles have done on the discs since the start.
     obstacle_work: f64,
     /// The obstacles binned for the step; `None` until the next step builds them.
     #[serde(skip)]
-    obstacles: Option<Obstacles>,
+    pub(crate) obstacles: Option<Obstacles>,
     /// The largest disc radius the obstacles' grid covers.
     #[serde(skip)]
     obstacle_radius: f64,
@@ -445,6 +445,32 @@ impl World {
                 profile.resolve += clock.lap();
             }
         }
+        self.finish_step(
+            dt,
+            Substepped {
+                stats,
+                sums,
+                met,
+                profile,
+                clock,
+                finite,
+                reordered,
+            },
+        )
+    }
+
+    /// The end of every step, fast or plain, after its substeps: the sinks, the
+    /// measurement, the clock, and the check that nothing overflowed.
+    pub(crate) fn finish_step(&mut self, dt: f64, done: Substepped) -> Result<(), StepError> {
+        let Substepped {
+            mut stats,
+            sums,
+            met,
+            mut profile,
+            mut clock,
+            finite,
+            mut reordered,
+        } = done;
         if !self.config.sinks.is_empty() && finite {
             stats.removed = self.drain_sinks();
             reordered |= stats.removed > 0;
@@ -469,8 +495,8 @@ impl World {
         self.measured = measured;
         stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
         profile.measure += clock.lap();
-        self.stats = stats;
         stats.obstacle_work = met.work;
+        self.stats = stats;
         self.obstacle_impulses = met.impulses;
         self.obstacle_work += stats.obstacle_work;
         self.profile = profile;
@@ -491,7 +517,7 @@ impl World {
     }
 
     /// The emitters' discs for a step of `dt`, added before it; returns how many.
-    fn emit(&mut self, dt: f64) -> usize {
+    pub(crate) fn emit(&mut self, dt: f64) -> usize {
         self.emitted_last_step.clear();
         if self.config.emitters.is_empty() {
             return 0;
@@ -646,7 +672,7 @@ impl World {
     /// The substeps a step of `dt` takes: `config.substeps`, or with `config.max_travel` as
     /// many as keep the fastest disc (gravity included) within `max_travel` of the smallest
     /// radius per substep, at most [`crate::MAX_SUBSTEPS`].
-    fn substeps_for(&self, dt: f64) -> u32 {
+    pub(crate) fn substeps_for(&self, dt: f64) -> u32 {
         self.substeps_for_extremes(dt, self.measured.max_speed2, self.measured.min_radius)
     }
 
@@ -1063,6 +1089,19 @@ fn initial_states(config: &Config) -> Vec<ObstacleState> {
             velocity: o.initial_velocity(),
         })
         .collect()
+}
+
+/// What a step's substeps leave for [`World::finish_step`].
+pub(crate) struct Substepped {
+    pub stats: StepStats,
+    pub sums: StepSums,
+    pub met: Met,
+    pub profile: StepProfile,
+    pub clock: Stopwatch,
+    /// No position overflowed.
+    pub finite: bool,
+    /// The discs' storage order changed.
+    pub reordered: bool,
 }
 
 /// Where each id is stored: a table by id while ids are dense, else the sorted pairs (ids
