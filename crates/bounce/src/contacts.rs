@@ -119,6 +119,10 @@ impl Contact {
 pub(crate) struct Detection {
     pub pairs: usize,
     pub max_overlap: f64,
+    /// Whether the contacts were sorted (else they came in presorted order).
+    pub sorted: bool,
+    /// Contacts a presorted detection found out of place (sorted apart and merged in).
+    pub out_of_place: usize,
 }
 
 /// The contacts of the last detection, in canonical order.
@@ -153,15 +157,8 @@ pub(crate) struct Contacts {
     listing: (u64, u32),
     /// How many detections tested the listing before it.
     last_listing_uses: u32,
-    /// Always sort the contacts (a test compares the two ways).
-    #[cfg(test)]
-    pub(crate) never_presort: bool,
-    /// How many detections sorted their contacts (a test counts them).
-    #[cfg(test)]
-    pub(crate) sorted_detections: usize,
-    /// How many contacts each presorted detection found out of place (a test reads them).
-    #[cfg(test)]
-    pub(crate) moved_contacts: Vec<usize>,
+    /// How many contacts the last presorted detection found out of place.
+    out_of_place_count: usize,
 }
 
 /// The near band's candidates in canonical order: each pair lower id first, in the order
@@ -292,12 +289,6 @@ impl Contacts {
             .flat_map(|b| &b[..bands])
             .map(Vec::len)
             .sum();
-        // With several passes under gravity the order within a block depends on the
-        // current heights, so the contacts are sorted then.
-        #[cfg(test)]
-        let presort = !self.never_presort;
-        #[cfg(not(test))]
-        let presort = true;
         let generation = broadphase.generation();
         self.listing = match self.listing {
             (listed, count) if listed == generation => (listed, count.saturating_add(1)),
@@ -313,14 +304,13 @@ impl Contacts {
         let lasting = self.listing.1 > DETECTIONS_BEFORE_PRESORT
             || self.last_listing_uses > LASTING_LISTING_USES
             || self.presorted.generation == Some(generation);
-        let max_overlap = if presort && self.dense && lasting && ctx.stack_order.is_none() {
+        // With several passes under gravity the order within a block depends on the
+        // current heights, so the contacts are sorted then.
+        let presorted = self.dense && lasting && ctx.stack_order.is_none();
+        let max_overlap = if presorted {
             self.presort(broadphase, p, &grid, ctx);
             self.find_presorted(broadphase, bands, p, &grid, ctx)
         } else {
-            #[cfg(test)]
-            {
-                self.sorted_detections += 1;
-            }
             self.find_sorting(broadphase, bands, p, &grid, ctx, tested)
         };
         self.split();
@@ -328,6 +318,12 @@ impl Contacts {
         Detection {
             pairs: self.list.len(),
             max_overlap,
+            sorted: !presorted,
+            out_of_place: if presorted {
+                self.out_of_place_count
+            } else {
+                0
+            },
         }
     }
 
@@ -599,8 +595,7 @@ impl Contacts {
         let stray_overlap = Self::stray_contacts(broadphase, p, grid, ctx, &mut moved);
         max_overlap = max_overlap.max(stray_overlap);
         moved.sort_unstable_by_key(|c| (c.key, c.ids));
-        #[cfg(test)]
-        self.moved_contacts.push(moved.len());
+        self.out_of_place_count = moved.len();
         merge_sorted(&self.found, &moved, &mut self.list, ctx);
         max_overlap
     }

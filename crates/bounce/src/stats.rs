@@ -64,6 +64,12 @@ pub struct StepProfile {
     /// The most discs past the list's allowance in a substep that kept the list (met
     /// alone: `broadphase::strays`).
     pub strays: usize,
+    /// Detections that sorted their contacts into the canonical order; the others (in dense
+    /// worlds) found them in the order of candidates presorted at the listing.
+    pub sorted_detections: usize,
+    /// Contacts the presorted detections found out of place (a disc changed order block
+    /// since the presort), sorted apart and merged in.
+    pub out_of_place: usize,
 }
 
 impl StepProfile {

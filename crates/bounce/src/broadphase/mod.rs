@@ -115,12 +115,6 @@ pub(crate) struct Broadphase {
     strays: Strays,
     /// How much of the list's life the last update found used (1: it is listed anew).
     worn: f64,
-    /// Rebuild whenever a disc strays (a test compares the two ways).
-    #[cfg(test)]
-    pub(crate) no_strays: bool,
-    /// Read every disc's radius even when all are equal (a test compares the two ways).
-    #[cfg(test)]
-    pub(crate) never_uniform: bool,
     /// The number of discs at the last listing.
     count: usize,
     /// Counts the listings: a list made for other storage indices has another number.
@@ -150,10 +144,6 @@ impl Broadphase {
     /// The radius of every disc, when all are equal (as at the last listing): detection,
     /// resolution and measurement then read one number instead of an array.
     pub(crate) fn uniform_radius(&self) -> Option<f64> {
-        #[cfg(test)]
-        if self.never_uniform {
-            return None;
-        }
         (self.listed && self.uniform_radius).then_some(self.max_radius)
     }
 
@@ -247,8 +237,6 @@ impl Broadphase {
                         contacts_per_disc,
                         self.reference.near_band_holds(moved.max_kept2),
                     )));
-        #[cfg(test)]
-        let few_strays = few_strays && (moved.strays.is_empty() || !self.no_strays);
         let kept = self.reference.positions(p.len()).is_some()
             && self.reference.covers(moved.max_kept2)
             && few_strays;

@@ -413,6 +413,8 @@ impl World {
                     broadphase::BANDS
                 };
                 let found = self.contacts.find(bp, bands, &self.particles, &ctx);
+                profile.sorted_detections += found.sorted as usize;
+                profile.out_of_place += found.out_of_place;
                 if pass == 0 {
                     let found = match ctx.tally {
                         None => found,
