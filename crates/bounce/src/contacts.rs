@@ -30,7 +30,7 @@ use std::ops::Range;
 use crate::broadphase::{BANDS, Broadphase, Pair, Strays, floor_to_isize, wrap_index};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, OrderAxisFrame};
-use crate::law::Law;
+use crate::law::{Law, may_touch, sqrt_limit, touching};
 use crate::parallel::{SharedSlice, prefetch};
 use crate::part::Tally;
 use crate::particles::{ParticleId, Particles, ordered};
@@ -611,11 +611,12 @@ impl Contacts {
             if !tally.counts(p.x[a], p.y[a]) {
                 continue;
             }
-            let [dx, dy] = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+            let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+            // Every listed contact collides: the overlap is the rule's.
             let reach = ctx.law.collision_distance(p.radius[a], p.radius[b]);
-            let distance = (dx * dx + dy * dy).sqrt();
+            let overlap = touching(diff, reach).unwrap_or(0.0);
             detection.pairs += 1;
-            detection.max_overlap = detection.max_overlap.max(reach - distance);
+            detection.max_overlap = detection.max_overlap.max(overlap);
         }
         detection
     }
@@ -1144,20 +1145,6 @@ fn prefix_end<T>(items: &[T], from: usize, holds: impl Fn(&T) -> bool) -> usize 
     lo + items[lo..hi].partition_point(holds)
 }
 
-/// The largest `d2` whose correctly rounded square root is at most `reach` (finite, `>= 0`):
-/// `d2 <= sqrt_limit(reach)` exactly when `d2.sqrt() <= reach`, as the square root is
-/// monotone. A couple of steps of one unit in the last place from `reach²`.
-fn sqrt_limit(reach: f64) -> f64 {
-    let mut limit = reach * reach;
-    while limit.next_up().sqrt() <= reach {
-        limit = limit.next_up();
-    }
-    while limit.sqrt() > reach {
-        limit = limit.next_down();
-    }
-    limit
-}
-
 /// Tests candidate pairs with the seed's rule, giving each contact (lower id first) to
 /// `emit` with the index of its candidate, in candidate order; returns the largest overlap.
 /// `diff` is `p1 - p2` (the minimum image in a periodic box), `reach` the collision distance
@@ -1218,8 +1205,7 @@ unsafe fn test<const UNIFORM: bool>(
             n += if UNIFORM {
                 d2 <= limit
             } else {
-                let reach = reach(i, j);
-                d2 <= reach * reach * (1.0 + 1e-12)
+                may_touch(d2, reach(i, j))
             } as usize;
         }
         if n <= SCREEN / SPARSE_HITS {
@@ -1252,16 +1238,11 @@ unsafe fn test<const UNIFORM: bool>(
                 let d2 = dx * dx + dy * dy;
                 nearest2 = if d2 < nearest2 { d2 } else { nearest2 };
             } else {
-                let reach = reach(i, j);
-                // The seed's exact test on the distance itself (so rounding matches
-                // `Law::is_colliding`).
-                let distance = (dx * dx + dy * dy).sqrt();
-                // (NaN distances never collide.)
-                let colliding = distance <= reach;
-                if !colliding {
+                // The seed's exact test on the distance itself.
+                let Some(overlap) = touching([dx, dy], reach(i, j)) else {
                     continue;
-                }
-                max_overlap = max_overlap.max(reach - distance);
+                };
+                max_overlap = max_overlap.max(overlap);
             }
             let k = c * SCREEN + k as usize;
             // SAFETY: as above.

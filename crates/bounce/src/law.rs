@@ -80,17 +80,14 @@ impl Law {
     /// (already the minimum image in a periodic box).
     #[inline(always)]
     pub fn is_colliding(&self, diff: [f64; 2], r1: f64, r2: f64) -> bool {
-        let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
-        distance <= self.collision_distance(r1, r2)
+        self.overlap(diff, r1, r2).is_some()
     }
 
     /// The seed's detection rule with what it measured: `Some(overlap)`, the collision
     /// distance less the distance (0 when touching), when the pair collides.
     #[inline(always)]
     pub fn overlap(&self, diff: [f64; 2], r1: f64, r2: f64) -> Option<f64> {
-        let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
-        let reach = self.collision_distance(r1, r2);
-        (distance <= reach).then_some(reach - distance)
+        touching(diff, self.collision_distance(r1, r2))
     }
 
     /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
@@ -104,6 +101,47 @@ impl Law {
     pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {
         resolve_pair(diff, a, b, self)
     }
+}
+
+/// **The detection rule**, the one place it is written: two things whose centre difference
+/// (to a peg's centre, or a segment's nearest point) is `diff` and whose collision distance
+/// is `reach` collide when `distance <= reach`; then `Some(reach - distance)`, the overlap.
+/// Every kernel asks this (or [`within`] on a distance it has, [`sqrt_limit`] and
+/// [`may_touch`], which answer from the squared distance): pairs, strays, the obstacles, the plain step. A NaN
+/// distance never collides.
+#[inline(always)]
+pub fn touching(diff: [f64; 2], reach: f64) -> Option<f64> {
+    let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
+    within(distance, reach).then_some(reach - distance)
+}
+
+/// [`touching`] for a kernel that has the distance already (and needs it after).
+#[inline(always)]
+pub fn within(distance: f64, reach: f64) -> bool {
+    distance <= reach
+}
+
+/// A screen before [`touching`]: `false` only where the squared distance `d2` rules a
+/// collision at `reach` out (a relative margin far wider than the rounding of `reach²`), so
+/// a kernel may skip the square root for most candidates.
+#[inline(always)]
+pub fn may_touch(d2: f64, reach: f64) -> bool {
+    d2 <= reach * reach * (1.0 + 1e-12)
+}
+
+/// The largest `d2` whose correctly rounded square root is at most `reach` (finite, `>= 0`):
+/// `d2 <= sqrt_limit(reach)` exactly when [`touching`] is `Some` for a squared distance
+/// `d2`, as the square root is monotone. A couple of steps of one unit in the last place
+/// from `reach²`. Kernels with one collision distance for every pair test with it.
+pub fn sqrt_limit(reach: f64) -> f64 {
+    let mut limit = reach * reach;
+    while limit.next_up().sqrt() <= reach {
+        limit = limit.next_up();
+    }
+    while limit.sqrt() > reach {
+        limit = limit.next_down();
+    }
+    limit
 }
 
 /// One side of a pair going into [`resolve_pair`].

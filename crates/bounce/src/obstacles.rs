@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 use crate::config::Config;
 use crate::context::StepContext;
 use crate::geometry::MinImage;
-use crate::law::{COINCIDENT_NORMAL, Law};
+use crate::law::{COINCIDENT_NORMAL, Law, may_touch, within};
 use crate::parallel::CHUNK;
 use crate::particles::Particles;
 use crate::sum::ExactSum;
@@ -465,7 +465,7 @@ fn reach_of(shape: &Shape, r: f64, law: &Law) -> f64 {
 
 /// Whether a disc of radius `r` at `p` collides with `shape` (what placement avoids).
 pub(crate) fn touches(shape: &Shape, p: [f64; 2], r: f64, law: &Law) -> bool {
-    nearest(shape, p).1.sqrt() <= reach_of(shape, r, law)
+    within(nearest(shape, p).1.sqrt(), reach_of(shape, r, law))
 }
 
 /// One disc as [`collide`] sees it.
@@ -491,12 +491,12 @@ pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut 
     let (r, m) = (*r, *m);
     let (q, distance2) = nearest(shape, *position);
     let reach = reach_of(shape, r, law);
-    // A cheap squared early-out with a margin, then the rule on the distance itself.
-    if distance2 > reach * reach * (1.0 + 1e-12) {
+    // A cheap squared early-out, then the rule on the distance itself.
+    if !may_touch(distance2, reach) {
         return [0.0, 0.0];
     }
     let distance = distance2.sqrt();
-    if distance > reach {
+    if !within(distance, reach) {
         return [0.0, 0.0];
     }
     // The normal from the obstacle's nearest point to the centre; on the segment itself,

@@ -115,13 +115,9 @@ impl Broadphase {
         let min_image = ctx.geometry.min_image();
         let law = ctx.law;
         let mut test = |i: usize, j: usize| {
-            let [dx, dy] = min_image.diff(p.x[i], p.y[i], p.x[j], p.y[j]);
-            let reach = law.collision_distance(p.radius[i], p.radius[j]);
-            // The seed's test on the distance itself, as `contacts` does it (NaN never
-            // collides).
-            let distance = (dx * dx + dy * dy).sqrt();
-            if distance <= reach {
-                emit(i, j, reach - distance);
+            let diff = min_image.diff(p.x[i], p.y[i], p.x[j], p.y[j]);
+            if let Some(overlap) = law.overlap(diff, p.radius[i], p.radius[j]) {
+                emit(i, j, overlap);
             }
         };
         // Another disc is at most half the skin (with the rounding of the stored reference)
