@@ -338,8 +338,10 @@ impl World {
     /// Advances ``n`` steps of ``dt`` (default: the world's ``dt``), without the GIL: other
     /// Python threads run meanwhile. Ctrl-C raises ``KeyboardInterrupt`` between steps,
     /// the world left after a whole step. Attached GSD writers get their frames.
-    #[pyo3(signature = (n = 1, dt = None))]
-    fn step(&mut self, py: Python<'_>, n: u64, dt: Option<f64>) -> PyResult<()> {
+    /// ``plain=True`` takes the plain reference step instead (one thread, slow; the same
+    /// bits as the fast one, which tests hold it to).
+    #[pyo3(signature = (n = 1, dt = None, plain = false))]
+    fn step(&mut self, py: Python<'_>, n: u64, dt: Option<f64>, plain: bool) -> PyResult<()> {
         self.check_unlocked()?;
         let dt = dt.or(self.dt).ok_or_else(|| {
             PyValueError::new_err(
@@ -348,8 +350,14 @@ impl World {
         })?;
         for _ in 0..n {
             let world = self.world.get_mut().unwrap_or_else(|e| e.into_inner());
-            py.detach(|| world.step(dt).map(|_| ()))
-                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            py.detach(|| {
+                if plain {
+                    bounce::plain::step(world, dt).map(|_| ())
+                } else {
+                    world.step(dt).map(|_| ())
+                }
+            })
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             py.check_signals()?;
             if !self.writers.is_empty() {
                 self.feed_writers(py)?;
@@ -439,7 +447,9 @@ impl World {
 
     /// Wall-clock seconds of each stage of the last step, measured inside the engine:
     /// ``integrate``, ``bin`` (broadphase upkeep), ``pairs``, ``resolve``, ``measure``,
-    /// ``total``, and ``rebuilds`` (substeps that rebuilt the candidate list).
+    /// ``total``; and counts: ``rebuilds`` (substeps that rebuilt the candidate list),
+    /// ``sorted_detections`` (detections that sorted their contacts rather than finding
+    /// them presorted) and ``out_of_place`` (contacts a presorted detection merged in).
     #[getter]
     fn profile<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let world = self.get();
@@ -452,6 +462,8 @@ impl World {
         d.set_item("measure", p.measure)?;
         d.set_item("total", p.total())?;
         d.set_item("rebuilds", p.rebuilds)?;
+        d.set_item("sorted_detections", p.sorted_detections)?;
+        d.set_item("out_of_place", p.out_of_place)?;
         Ok(d)
     }
 

@@ -488,8 +488,7 @@ impl Contacts {
         presorted.generation = Some(broadphase.generation());
         // The candidates' copies are done with, but their room is kept: the next presort
         // needs as much again (a resting pile presorts every dozen steps or so), and memory
-        // given back came back as page faults, 10 ms of the 1M pile's 35 ms placement (its
-        // peak resident memory fell too: 413 → 377 MB).
+        // given back comes back as page faults in the next placement, a large part of it.
         self.list.clear();
     }
 
