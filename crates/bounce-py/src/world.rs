@@ -446,8 +446,8 @@ impl World {
     }
 
     /// Wall-clock seconds of each stage of the last step, measured inside the engine:
-    /// ``integrate``, ``bin`` (broadphase upkeep), ``pairs``, ``resolve``, ``measure``,
-    /// ``total``; and counts: ``rebuilds`` (substeps that rebuilt the candidate list),
+    /// ``integrate``, ``bin`` (broadphase upkeep), ``pairs``, ``resolve``, ``obstacles``,
+    /// ``walls`` (the hold after later solver passes), ``measure``, ``total``; and counts: ``rebuilds`` (substeps that rebuilt the candidate list),
     /// ``sorted_detections`` (detections that sorted their contacts rather than finding
     /// them presorted) and ``out_of_place`` (contacts a presorted detection merged in).
     #[getter]
@@ -459,6 +459,8 @@ impl World {
         d.set_item("bin", p.bin)?;
         d.set_item("pairs", p.pairs)?;
         d.set_item("resolve", p.resolve)?;
+        d.set_item("obstacles", p.obstacles)?;
+        d.set_item("walls", p.walls)?;
         d.set_item("measure", p.measure)?;
         d.set_item("total", p.total())?;
         d.set_item("rebuilds", p.rebuilds)?;

@@ -80,6 +80,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sum.bin += p.bin;
         sum.pairs += p.pairs;
         sum.resolve += p.resolve;
+        sum.obstacles += p.obstacles;
+        sum.walls += p.walls;
         sum.measure += p.measure;
     }
     let ms = |s: f64| s * 1e3 / steps as f64;
@@ -93,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         world.state_hash()
     );
     println!(
-        "ms/step: mean {:.3} median {:.3} p99 {:.3}; stages (mean): integrate {:.3} bin {:.3} pairs {:.3} resolve {:.3} measure {:.3}",
+        "ms/step: mean {:.3} median {:.3} p99 {:.3}; stages (mean): integrate {:.3} bin {:.3} pairs {:.3} resolve {:.3} obstacles {:.3} walls {:.3} measure {:.3}",
         mean * 1e3,
         quantile(0.5),
         quantile(0.99),
@@ -101,6 +103,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ms(sum.bin),
         ms(sum.pairs),
         ms(sum.resolve),
+        ms(sum.obstacles),
+        ms(sum.walls),
         ms(sum.measure),
     );
     println!("rebuild ms: {}", rebuild_ms.join(" "));

@@ -48,7 +48,7 @@ pub struct StepStats {
 /// All zero on `wasm32`, which has no clock in `std`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepProfile {
-    /// Integration and boundary.
+    /// Integration: gravity, drift and the walls.
     pub integrate: f64,
     /// Broadphase upkeep: checking the candidate list and, when discs have moved too far,
     /// rebuilding it (levels, grids, counting sort, reordering into cell order, listing).
@@ -57,6 +57,11 @@ pub struct StepProfile {
     pub pairs: f64,
     /// Pair resolution.
     pub resolve: f64,
+    /// Obstacles: moving them, sending back discs that crossed a segment, and meeting
+    /// them after each solver pass.
+    pub obstacles: f64,
+    /// Holding the walls after the later solver passes (`solver_iterations` > 1).
+    pub walls: f64,
     /// Energy and momentum sums.
     pub measure: f64,
     /// How many substeps rebuilt the candidate list.
@@ -75,7 +80,13 @@ pub struct StepProfile {
 impl StepProfile {
     /// Total over the stages.
     pub fn total(&self) -> f64 {
-        self.integrate + self.bin + self.pairs + self.resolve + self.measure
+        self.integrate
+            + self.bin
+            + self.pairs
+            + self.resolve
+            + self.obstacles
+            + self.walls
+            + self.measure
     }
 }
 

@@ -1,8 +1,5 @@
-//! The world: configuration, particles, and the step that ties the stages together.
-//!
-//! One step is `substeps` times: integrate (with the boundary and the displacement check) →
-//! keep or rebuild the candidate list → find the colliding pairs among the candidates →
-//! resolve them in canonical order; then measure. Inputs are
+//! The world: configuration, particles, what the step keeps between steps, and the API
+//! around them (the step's script of stages is in `step`). Inputs are
 //! validated at the edges (`new`, `add_particle`, `set_config`, loading a checkpoint), so the
 //! step itself cannot fail for any state reachable through this API.
 
@@ -16,22 +13,22 @@ use crate::config::{Config, ConfigError};
 use crate::contacts::Contacts;
 use crate::context::StepContext;
 use crate::geometry::Geometry;
-use crate::integrate::integrate;
 use crate::law::Law;
-use crate::obstacles::{self, Met, ObstacleState, Obstacles, Shape, Trail};
+use crate::obstacles::{ObstacleState, Obstacles, Shape, Trail};
 use crate::parallel::{Executor, ThreadsError};
 use crate::part::{DiscRecord, Tally, Travel};
 use crate::particles::{Particle, ParticleError, ParticleId, Particles};
-use crate::resolve::{resolve_all, resolve_walls};
 use crate::sources::{self, EmitterState};
-use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
+use crate::stats::{Measured, StepProfile, StepStats, measure};
 use crate::sum::StepSums;
 
 mod state;
+mod step;
 #[cfg(test)]
 mod tests;
 
 use state::{WorldState, serialize_reference};
+pub(crate) use step::Substepped;
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///
@@ -320,202 +317,6 @@ impl World {
         let installer = self.exec.installer(self.particles.len());
         installer.install(|| self.step_in_pool(dt, substeps))?;
         Ok(&self.stats)
-    }
-
-    /// The step's body, on one of the pool's threads when the world is large enough to use
-    /// them (see `Executor::installer`).
-    fn step_in_pool(&mut self, dt: f64, substeps: u32) -> Result<(), StepError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(StepError::InvalidTimeStep(dt));
-        }
-        let substeps = substeps.clamp(1, crate::MAX_SUBSTEPS);
-        let emitted = self.emit(dt);
-        let h = dt / substeps as f64;
-        self.prepare_obstacles();
-        let mut ctx = StepContext::new(&self.config, h, &self.exec, self.tally);
-        ctx.order_radius = self.order_radius;
-        let mut sums = StepSums::default();
-        let mut stats = StepStats {
-            substeps,
-            emitted,
-            ..StepStats::default()
-        };
-        let mut profile = StepProfile::default();
-        let mut clock = Stopwatch::start();
-        let mut reordered = false;
-        let mut finite = true;
-        let obstacles = self.obstacles.as_mut().expect("prepared");
-        let has_obstacles = !obstacles.is_empty();
-        // Segments can be crossed: discs are followed from where they were last on the
-        // right side. Pegs have an inside, and need no trail.
-        let follow = obstacles.needs_trail();
-        let mut met = Met::new(self.config.obstacles.len());
-        // The last step's contacts per disc and substep (saved with the world, so a loaded
-        // one decides as the original does).
-        let last = &self.stats;
-        let contacts_per_disc =
-            last.pairs as f64 / (last.substeps.max(1) as f64 * self.particles.len().max(1) as f64);
-        'substeps: for _ in 0..substeps {
-            if has_obstacles {
-                obstacles::advance(&self.config, &mut self.obstacle_states, h);
-                obstacles.place(&self.config, &self.obstacle_states);
-            }
-            if follow {
-                self.trail.mark(&self.particles);
-            }
-            let bp = &mut self.broadphase;
-            let mut moved = integrate(&mut self.particles, &ctx, &bp.reference, bp.radius_bound());
-            // A disc sent back across a segment returns to where it was, which for a stray of
-            // the last substep is past the allowance: with segments, no strays are kept.
-            moved.too_many_strays |= follow && !moved.strays.is_empty();
-            sums.walls.merge(&moved.impulse);
-            if follow {
-                // Discs that flew through a segment in this substep go back.
-                obstacles::meet(
-                    &mut self.particles,
-                    Some(&mut self.trail),
-                    obstacles,
-                    &mut self.obstacle_states,
-                    &self.config,
-                    &ctx,
-                    &mut met,
-                );
-            }
-            profile.integrate += clock.lap();
-
-            let rebuilt = bp.update(&mut self.particles, &ctx, &moved, contacts_per_disc);
-            reordered |= rebuilt;
-            self.travel
-                .note(moved.max_displacement2, moved.max_stride, rebuilt);
-            if rebuilt && follow {
-                self.trail.mark(&self.particles);
-            }
-            profile.rebuilds += rebuilt as usize;
-            profile.strays = profile.strays.max(bp.strays().len());
-            profile.bin += clock.lap();
-            if rebuilt && bp.overflowed() {
-                // An infinite position (NaN ones come with NaN velocities, caught below).
-                finite = false;
-                break 'substeps;
-            }
-
-            // Detection and resolution, `solver_iterations` times: later passes see the
-            // velocities and places the earlier ones left (the candidates still hold every
-            // pair that can collide; the next integration measures the pushes).
-            for pass in 0..self.config.solver_iterations {
-                // The first pass after integration knows how far discs are from their
-                // references; later ones (after pushes) and segment crossings test all.
-                let bands = if pass == 0 && !follow {
-                    // A rebuild took the current positions as the reference; strays are
-                    // met alone.
-                    bp.bands_within(if rebuilt { 0.0 } else { moved.max_kept2 })
-                } else {
-                    broadphase::BANDS
-                };
-                let found = self.contacts.find(bp, bands, &self.particles, &ctx);
-                profile.sorted_detections += found.sorted as usize;
-                profile.out_of_place += found.out_of_place;
-                if pass == 0 {
-                    let found = match ctx.tally {
-                        None => found,
-                        Some(tally) => self.contacts.tallied(&self.particles, &ctx, tally),
-                    };
-                    stats.pairs += found.pairs;
-                    stats.max_overlap = stats.max_overlap.max(found.max_overlap);
-                }
-                profile.pairs += clock.lap();
-                sums.virial.merge(&resolve_all(
-                    &self.contacts,
-                    &mut self.particles,
-                    &ctx,
-                    bp.uniform_radius(),
-                ));
-                if has_obstacles {
-                    obstacles::meet(
-                        &mut self.particles,
-                        follow.then_some(&mut self.trail),
-                        obstacles,
-                        &mut self.obstacle_states,
-                        &self.config,
-                        &ctx,
-                        &mut met,
-                    );
-                }
-                if self.config.solver_iterations > 1 {
-                    sums.walls.merge(&resolve_walls(&mut self.particles, &ctx));
-                }
-                profile.resolve += clock.lap();
-            }
-        }
-        self.finish_step(
-            dt,
-            Substepped {
-                stats,
-                sums,
-                met,
-                profile,
-                clock,
-                finite,
-                reordered,
-            },
-        )
-    }
-
-    /// The end of every step, fast or plain, after its substeps: the sinks, the
-    /// measurement, the clock, and the check that nothing overflowed.
-    pub(crate) fn finish_step(&mut self, dt: f64, done: Substepped) -> Result<(), StepError> {
-        let Substepped {
-            mut stats,
-            sums,
-            met,
-            mut profile,
-            mut clock,
-            finite,
-            mut reordered,
-        } = done;
-        if !self.config.sinks.is_empty() && finite {
-            stats.removed = self.drain_sinks();
-            reordered |= stats.removed > 0;
-        }
-        let measured = Measured {
-            total_mass: self.measured.total_mass,
-            radius_sum: self.measured.radius_sum,
-            ..measure(
-                &self.particles,
-                self.config.mass_model,
-                self.broadphase.uniform_radius(),
-                &self.exec,
-                self.config.max_travel.is_some(),
-            )
-        };
-        (stats.kinetic_energy, stats.momentum) = (measured.kinetic_energy, measured.momentum);
-        // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
-        // impulses over the step.
-        stats.virial = 0.5 * sums.virial.value() / dt;
-        stats.wall_impulse = sums.walls.impulse();
-        self.sums = sums;
-        self.measured = measured;
-        stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
-        profile.measure += clock.lap();
-        stats.obstacle_work = met.work;
-        self.stats = stats;
-        self.obstacle_impulses = met.impulses;
-        self.obstacle_work += stats.obstacle_work;
-        self.profile = profile;
-        self.time += dt;
-        self.steps += 1;
-        if reordered {
-            self.index_of = OnceLock::new();
-        }
-        let momentum_finite = stats.momentum.iter().all(|v| v.is_finite());
-        if !(finite && stats.kinetic_energy.is_finite() && momentum_finite) {
-            self.broadphase.invalidate();
-            return Err(StepError::NonFinite {
-                step: self.steps,
-                id: self.first_non_finite(),
-            });
-        }
-        Ok(())
     }
 
     /// The emitters' discs for a step of `dt`, added before it; returns how many.
@@ -1091,19 +892,6 @@ fn initial_states(config: &Config) -> Vec<ObstacleState> {
             velocity: o.initial_velocity(),
         })
         .collect()
-}
-
-/// What a step's substeps leave for [`World::finish_step`].
-pub(crate) struct Substepped {
-    pub stats: StepStats,
-    pub sums: StepSums,
-    pub met: Met,
-    pub profile: StepProfile,
-    pub clock: Stopwatch,
-    /// No position overflowed.
-    pub finite: bool,
-    /// The discs' storage order changed.
-    pub reordered: bool,
 }
 
 /// Where each id is stored: a table by id while ids are dense, else the sorted pairs (ids

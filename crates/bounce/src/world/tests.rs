@@ -175,6 +175,40 @@ fn later_solver_passes_meet_the_walls() {
 }
 
 #[test]
+fn the_profile_times_each_stage_under_its_name() {
+    // The obstacles' and the walls' hold are stages of their own: a world without either
+    // spends nothing there, one with both spends time in each.
+    let stepped = |obstacles: Vec<crate::obstacles::Obstacle>, passes: u32| {
+        let (config, discs) =
+            scene::gas_in_walls(1000, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 7).unwrap();
+        let config = Config {
+            obstacles,
+            solver_iterations: passes,
+            ..config
+        };
+        let mut world = world_of(config, discs, 1);
+        world.step(0.01).unwrap();
+        *world.profile()
+    };
+    let plain = stepped(Vec::new(), 1);
+    assert_eq!((plain.obstacles, plain.walls), (0.0, 0.0));
+    assert!(plain.integrate > 0.0 && plain.pairs > 0.0 && plain.resolve > 0.0);
+    let both = stepped(
+        vec![
+            crate::obstacles::Obstacle::peg([30.0, 30.0], 3.0),
+            crate::obstacles::Obstacle::segment([5.0, 5.0], [45.0, 20.0]),
+        ],
+        2,
+    );
+    assert!(both.obstacles > 0.0 && both.walls > 0.0, "{both:?}");
+    let stages = both.integrate + both.bin + both.pairs + both.resolve;
+    assert_eq!(
+        both.total(),
+        stages + both.obstacles + both.walls + both.measure
+    );
+}
+
+#[test]
 fn a_sink_can_empty_the_world_and_it_keeps_stepping() {
     // Found by fuzzing: with every disc gone, a stale candidate list outlived its blocks.
     let config = Config {

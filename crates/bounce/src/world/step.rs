@@ -1,0 +1,326 @@
+//! The fast step as a script of stages, each stage's policy inside the stage, and the end
+//! of the step that the fast and the plain step share.
+//!
+//! One step: emit; then `substeps` times: move the obstacles → integrate (walls and the
+//! displacement check) → send back the discs that crossed a segment → keep or rebuild the
+//! candidate list → `solver_iterations` times: detect the colliding pairs, resolve them in
+//! canonical order, meet the obstacles, hold the walls; then sinks and measure. The profile
+//! times each stage under its own name (`StepProfile`).
+
+use crate::broadphase::{self, Broadphase};
+use crate::config::Config;
+use crate::contacts::Contacts;
+use crate::context::StepContext;
+use crate::integrate::{Moved, integrate};
+use crate::obstacles::{self, Met, ObstacleState, Obstacles, Trail};
+use crate::part::Travel;
+use crate::particles::Particles;
+use crate::resolve::{resolve_all, resolve_walls};
+use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
+use crate::sum::StepSums;
+
+use super::{StepError, World};
+
+impl World {
+    /// The step's body, on one of the pool's threads when the world is large enough to use
+    /// them (see `Executor::installer`).
+    pub(super) fn step_in_pool(&mut self, dt: f64, substeps: u32) -> Result<(), StepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StepError::InvalidTimeStep(dt));
+        }
+        let substeps = substeps.clamp(1, crate::MAX_SUBSTEPS);
+        let emitted = self.emit(dt);
+        self.prepare_obstacles();
+        let mut done = Substepped::new(substeps, emitted, self.config.obstacles.len());
+        let mut stages = Stages::new(self, dt / substeps as f64);
+        for _ in 0..substeps {
+            stages.move_obstacles(&mut done);
+            let moved = stages.integrate(&mut done);
+            stages.send_back_crossings(&mut done);
+            let Some(rebuilt) = stages.update_candidates(&moved, &mut done) else {
+                break;
+            };
+            for pass in 0..stages.config.solver_iterations {
+                stages.detect(pass, rebuilt, &moved, &mut done);
+                stages.resolve_pairs(&mut done);
+                stages.meet_obstacles(&mut done);
+                stages.hold_walls(&mut done);
+            }
+        }
+        self.finish_step(dt, done)
+    }
+
+    /// The end of every step, fast or plain, after its substeps: the sinks, the
+    /// measurement, the clock, and the check that nothing overflowed.
+    pub(crate) fn finish_step(&mut self, dt: f64, done: Substepped) -> Result<(), StepError> {
+        let Substepped {
+            mut stats,
+            sums,
+            met,
+            mut profile,
+            mut clock,
+            finite,
+            mut reordered,
+        } = done;
+        if !self.config.sinks.is_empty() && finite {
+            stats.removed = self.drain_sinks();
+            reordered |= stats.removed > 0;
+        }
+        let measured = Measured {
+            total_mass: self.measured.total_mass,
+            radius_sum: self.measured.radius_sum,
+            ..measure(
+                &self.particles,
+                self.config.mass_model,
+                self.broadphase.uniform_radius(),
+                &self.exec,
+                self.config.max_travel.is_some(),
+            )
+        };
+        (stats.kinetic_energy, stats.momentum) = (measured.kinetic_energy, measured.momentum);
+        // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
+        // impulses over the step.
+        stats.virial = 0.5 * sums.virial.value() / dt;
+        stats.wall_impulse = sums.walls.impulse();
+        self.sums = sums;
+        self.measured = measured;
+        stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
+        profile.measure += clock.lap();
+        stats.obstacle_work = met.work;
+        self.stats = stats;
+        self.obstacle_impulses = met.impulses;
+        self.obstacle_work += stats.obstacle_work;
+        self.profile = profile;
+        self.time += dt;
+        self.steps += 1;
+        if reordered {
+            self.index_of = std::sync::OnceLock::new();
+        }
+        let momentum_finite = stats.momentum.iter().all(|v| v.is_finite());
+        if !(finite && stats.kinetic_energy.is_finite() && momentum_finite) {
+            self.broadphase.invalidate();
+            return Err(StepError::NonFinite {
+                step: self.steps,
+                id: self.first_non_finite(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What a step's substeps leave for [`World::finish_step`].
+pub(crate) struct Substepped {
+    pub stats: StepStats,
+    pub sums: StepSums,
+    pub met: Met,
+    pub profile: StepProfile,
+    pub clock: Stopwatch,
+    /// No position overflowed.
+    pub finite: bool,
+    /// The discs' storage order changed.
+    pub reordered: bool,
+}
+
+impl Substepped {
+    /// A step of `substeps` that emitted `emitted` discs first, with `obstacles` obstacles.
+    pub(crate) fn new(substeps: u32, emitted: usize, obstacles: usize) -> Self {
+        Substepped {
+            stats: StepStats {
+                substeps,
+                emitted,
+                ..StepStats::default()
+            },
+            sums: StepSums::default(),
+            met: Met::new(obstacles),
+            profile: StepProfile::default(),
+            clock: Stopwatch::start(),
+            finite: true,
+            reordered: false,
+        }
+    }
+}
+
+/// The world's parts a substep's stages work on, borrowed apart from the configuration the
+/// step's context reads.
+struct Stages<'w> {
+    ctx: StepContext<'w>,
+    config: &'w Config,
+    particles: &'w mut Particles,
+    broadphase: &'w mut Broadphase,
+    contacts: &'w mut Contacts,
+    obstacles: &'w mut Obstacles,
+    obstacle_states: &'w mut Vec<ObstacleState>,
+    trail: &'w mut Trail,
+    travel: &'w mut Travel,
+    /// Segments can be crossed: discs are followed from where they were last on the right
+    /// side. Pegs have an inside, and need no trail.
+    follow: bool,
+    /// The last step's contacts per disc and substep (saved with the world, so a loaded one
+    /// decides as the original does).
+    contacts_per_disc: f64,
+}
+
+impl<'w> Stages<'w> {
+    fn new(world: &'w mut World, h: f64) -> Self {
+        let last = &world.stats;
+        let contacts_per_disc =
+            last.pairs as f64 / (last.substeps.max(1) as f64 * world.particles.len().max(1) as f64);
+        let World {
+            config,
+            particles,
+            broadphase,
+            contacts,
+            obstacles,
+            obstacle_states,
+            trail,
+            travel,
+            exec,
+            tally,
+            order_radius,
+            ..
+        } = world;
+        let obstacles = obstacles.as_mut().expect("prepared");
+        let mut ctx = StepContext::new(config, h, exec, *tally);
+        ctx.order_radius = *order_radius;
+        Stages {
+            ctx,
+            config,
+            particles,
+            broadphase,
+            contacts,
+            follow: obstacles.needs_trail(),
+            obstacles,
+            obstacle_states,
+            trail,
+            travel,
+            contacts_per_disc,
+        }
+    }
+
+    /// Moving obstacles advance to the substep's end and are placed in their grid; with
+    /// segments, the discs' places are noted first.
+    fn move_obstacles(&mut self, done: &mut Substepped) {
+        if self.obstacles.is_empty() {
+            return;
+        }
+        obstacles::advance(self.config, self.obstacle_states, self.ctx.h);
+        self.obstacles.place(self.config, self.obstacle_states);
+        if self.follow {
+            self.trail.mark(self.particles);
+        }
+        done.profile.obstacles += done.clock.lap();
+    }
+
+    /// Gravity, drift and the walls, with how far each disc got from its reference.
+    fn integrate(&mut self, done: &mut Substepped) -> Moved {
+        let bp = &self.broadphase;
+        let mut moved = integrate(self.particles, &self.ctx, &bp.reference, bp.radius_bound());
+        // A disc sent back across a segment returns to where it was, which for a stray of
+        // the last substep is past the allowance: with segments, no strays are kept.
+        moved.too_many_strays |= self.follow && !moved.strays.is_empty();
+        done.sums.walls.merge(&moved.impulse);
+        done.profile.integrate += done.clock.lap();
+        moved
+    }
+
+    /// Discs that flew through a segment in this substep go back.
+    fn send_back_crossings(&mut self, done: &mut Substepped) {
+        if self.follow {
+            obstacles::meet(
+                self.particles,
+                Some(self.trail),
+                self.obstacles,
+                self.obstacle_states,
+                self.config,
+                &self.ctx,
+                &mut done.met,
+            );
+            done.profile.obstacles += done.clock.lap();
+        }
+    }
+
+    /// Keeps the candidate list or rebuilds it (reordering the discs); `Some(rebuilt)`, or
+    /// `None` when a position overflowed (the step ends).
+    fn update_candidates(&mut self, moved: &Moved, done: &mut Substepped) -> Option<bool> {
+        let bp = &mut *self.broadphase;
+        let rebuilt = bp.update(self.particles, &self.ctx, moved, self.contacts_per_disc);
+        done.reordered |= rebuilt;
+        self.travel
+            .note(moved.max_displacement2, moved.max_stride, rebuilt);
+        if rebuilt && self.follow {
+            self.trail.mark(self.particles);
+        }
+        done.profile.rebuilds += rebuilt as usize;
+        done.profile.strays = done.profile.strays.max(bp.strays().len());
+        done.profile.bin += done.clock.lap();
+        if rebuilt && bp.overflowed() {
+            // An infinite position (NaN ones come with NaN velocities, caught at the end).
+            done.finite = false;
+            return None;
+        }
+        Some(rebuilt)
+    }
+
+    /// The colliding pairs among the candidates, in canonical order; the first pass's are
+    /// the step's count. Later passes see the velocities and places the earlier ones left
+    /// (the candidates still hold every pair that can collide).
+    fn detect(&mut self, pass: u32, rebuilt: bool, moved: &Moved, done: &mut Substepped) {
+        let bp = &*self.broadphase;
+        // The first pass after integration knows how far discs are from their references;
+        // later ones (after pushes) and segment crossings test all.
+        let bands = if pass == 0 && !self.follow {
+            // A rebuild took the current positions as the reference; strays are met alone.
+            bp.bands_within(if rebuilt { 0.0 } else { moved.max_kept2 })
+        } else {
+            broadphase::BANDS
+        };
+        let found = self.contacts.find(bp, bands, self.particles, &self.ctx);
+        done.profile.sorted_detections += found.sorted as usize;
+        done.profile.out_of_place += found.out_of_place;
+        if pass == 0 {
+            let found = match self.ctx.tally {
+                None => found,
+                Some(tally) => self.contacts.tallied(self.particles, &self.ctx, tally),
+            };
+            done.stats.pairs += found.pairs;
+            done.stats.max_overlap = done.stats.max_overlap.max(found.max_overlap);
+        }
+        done.profile.pairs += done.clock.lap();
+    }
+
+    /// The law on each contact, in canonical order.
+    fn resolve_pairs(&mut self, done: &mut Substepped) {
+        let uniform = self.broadphase.uniform_radius();
+        let virial = resolve_all(self.contacts, self.particles, &self.ctx, uniform);
+        done.sums.virial.merge(&virial);
+        done.profile.resolve += done.clock.lap();
+    }
+
+    /// Discs touching an obstacle are pushed out and bounce; moving obstacles take their
+    /// impulses.
+    fn meet_obstacles(&mut self, done: &mut Substepped) {
+        if !self.obstacles.is_empty() {
+            obstacles::meet(
+                self.particles,
+                self.follow.then_some(&mut *self.trail),
+                self.obstacles,
+                self.obstacle_states,
+                self.config,
+                &self.ctx,
+                &mut done.met,
+            );
+            done.profile.obstacles += done.clock.lap();
+        }
+    }
+
+    /// With several solver passes, the pushes may carry discs past a wall: they are held
+    /// (integration holds them in the first).
+    fn hold_walls(&mut self, done: &mut Substepped) {
+        if self.config.solver_iterations > 1 {
+            done.sums
+                .walls
+                .merge(&resolve_walls(self.particles, &self.ctx));
+            done.profile.walls += done.clock.lap();
+        }
+    }
+}
