@@ -203,6 +203,14 @@ impl Session {
                 differences.join("; ")
             ));
         }
+        self.adopt(world);
+        Ok(())
+    }
+
+    /// Replaces the world with `world` unchecked (a front end's edited world, reloaded):
+    /// it keeps the thread count, and the discs beyond the scenario's get their emitter's
+    /// colour and type, or none. [`Session::resume`] adopts what it has checked.
+    pub fn adopt(&mut self, world: World) {
         let threads = self.world.threads();
         self.world = world;
         let _ = self.world.set_threads(threads);
@@ -217,7 +225,6 @@ impl Session {
                 self.typeid[id as usize] = kind;
             }
         }
-        Ok(())
     }
 }
 

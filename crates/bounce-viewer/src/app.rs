@@ -227,12 +227,9 @@ impl ViewerApp {
         let path = self.path_or("checkpoint.bin");
         match bounce_scenario::checkpoint::load(&path) {
             Ok(bounce_scenario::checkpoint::Checkpoint { world, .. }) => {
-                let threads = self.session.world.threads();
-                if world.len() != self.session.colours.len() {
-                    self.session.colours = vec![None; world.len()];
-                }
-                self.session.world = world;
-                let _ = self.session.world.set_threads(threads);
+                // Unchecked against the scenario: the saved world may have been edited
+                // here (discs and pegs added with the mouse).
+                self.session.adopt(world);
                 self.after_reload();
                 self.message = format!("loaded {}", path.display());
             }
@@ -1040,5 +1037,20 @@ region = { min = [0.0, 0.0], max = [20.0, 1.0] }
         assert_eq!(a.session.world.len(), 10, "{}", a.status());
         let last = a.session.world.next_id() as usize - 1;
         assert_eq!(a.palette.colours[last], Some([0, 255, 0]));
+        // A checkpoint loaded into the freshly opened scenario (through the session, as the
+        // CLI resumes) gives the emitted discs their colour again.
+        let dir = std::env::temp_dir().join(format!("bounce-viewer-emit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        a.path = dir.join("c.bin").display().to_string();
+        a.save_checkpoint();
+        let saved = a.status();
+        a.open_text("emit.toml", text).unwrap();
+        assert_eq!(a.session.world.len(), 0);
+        a.path = dir.join("c.bin").display().to_string();
+        a.load_checkpoint();
+        assert!(a.message.starts_with("loaded"), "{}", a.message);
+        assert_eq!(a.status(), saved);
+        assert_eq!(a.palette.colours[last], Some([0, 255, 0]));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -62,12 +62,14 @@ impl Tally {
     }
 }
 
-/// `v` wrapped into `[min, min + size)` (or onto `min + size` itself, by rounding): the one
-/// formula every rank uses to say which region a place is in.
+/// `v` wrapped into `[min, min + size)` by the periodic box's own wrap (the one integration
+/// applies, `geometry::wrap`, so a stored position is its own wrap): the one formula every
+/// rank uses to say which region a place is in.
 #[inline]
 pub fn wrap_coordinate(v: f64, min: f64, size: f64) -> f64 {
-    let t = v - min;
-    min + (t - size * (t / size).floor())
+    let mut v = v;
+    crate::geometry::wrap(&mut v, min, size);
+    v
 }
 
 /// Upper bounds on how far any disc of a world has moved, kept at no cost from the

@@ -184,15 +184,7 @@ pub fn gas_among(
     let cell_of = |p: [f64; 2]| -> [usize; 2] {
         [0, 1].map(|a| (((p[a] - min[a]) / size[a] * n[a] as f64) as usize).min(n[a] - 1))
     };
-    let min_image = |d: f64, a: usize| {
-        if periodic && d > 0.5 * size[a] {
-            d - size[a]
-        } else if periodic && d < -0.5 * size[a] {
-            d + size[a]
-        } else {
-            d
-        }
-    };
+    let min_image = geometry.min_image();
     // Every disc to keep clear of, earlier generators' first: (centre, radius).
     let mut all: Vec<([f64; 2], f64)> = Vec::with_capacity(spec.count + existing.len());
     for q in existing {
@@ -226,9 +218,8 @@ pub fn gas_among(
                 continue 'attempt;
             }
             let clear = |q: &([f64; 2], f64)| {
-                let dxp = min_image(pos[0] - q.0[0], 0);
-                let dyp = min_image(pos[1] - q.0[1], 1);
-                !law.is_colliding([dxp, dyp], r, q.1)
+                let diff = min_image.diff(pos[0], pos[1], q.0[0], q.0[1]);
+                !law.is_colliding(diff, r, q.1)
             };
             // Large discs reach further than one cell of the placement grid (at most the
             // whole grid).
