@@ -354,11 +354,12 @@ impl Contacts {
             let overlap = candidates[block][..bands]
                 .iter()
                 .fold(0.0f64, |overlap, pairs| {
-                    // SAFETY: every candidate indexes the current storage of `p` (checked by
-                    // `find`: the list was made for exactly these discs).
                     let emit = |_, c| found.push(c);
                     let key = |_, x, y| grid.key(x, y);
-                    overlap.max(unsafe { test_case(pairs, p, key, ctx, uniform, strays, emit) })
+                    // SAFETY: every candidate indexes the current storage of `p` (checked by
+                    // `find`: the list was made for exactly these discs).
+                    let tested = unsafe { test_case(pairs, p, key, ctx, uniform, strays, emit) };
+                    overlap.max(tested)
                 });
             // The blocks these contacts fall in, while they are still in cache.
             (overlap, BlockBounds::of(found))
@@ -1039,10 +1040,10 @@ unsafe fn test_kind(
     let min_image = ctx.geometry.min_image();
     let plain = |x1: f64, y1: f64, x2: f64, y2: f64| [x1 - x2, y1 - y2];
     let image = |x1, y1, x2, y2| min_image.diff(x1, y1, x2, y2);
-    // SAFETY (of the reads): every candidate index is below `p.len()` (the callers'
-    // promise), the radii's length.
-    let pair = |i: usize, j: usize| unsafe {
-        law.collision_distance(*p.radius.get_unchecked(i), *p.radius.get_unchecked(j))
+    let pair = |i: usize, j: usize| {
+        // SAFETY: every candidate index is below `p.len()` (the callers' promise), the
+        // radii's length.
+        unsafe { law.collision_distance(*p.radius.get_unchecked(i), *p.radius.get_unchecked(j)) }
     };
     let uniform = uniform
         .map(|r| law.collision_distance(r, r))
@@ -1224,6 +1225,7 @@ unsafe fn test<const UNIFORM: bool>(
             if skip(i, j) {
                 continue;
             }
+            // SAFETY: `i` and `j` are candidate indices, below the arrays' length.
             let (at_i, at_j) = unsafe {
                 (
                     [*x.get_unchecked(i), *y.get_unchecked(i)],

@@ -181,6 +181,7 @@ pub(crate) struct SharedSlice<'a, T> {
 // SAFETY: access goes through the unsafe `get`/`set`, whose callers guarantee that no index is
 // written by one thread while another reads or writes it.
 unsafe impl<T: Send> Send for SharedSlice<'_, T> {}
+// SAFETY: as for `Send`: shared references only reach the unsafe `get`/`set`.
 unsafe impl<T: Send> Sync for SharedSlice<'_, T> {}
 
 impl<'a, T: Copy> SharedSlice<'a, T> {
