@@ -15,8 +15,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::{Boundary, Config};
-use crate::law::Law;
-use crate::particles::ParticleError;
+use crate::law::{Law, hold};
+use crate::particles::{Particle, ParticleError};
 
 /// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
 /// Divide by the elapsed time and the wall's length for the pressure.
@@ -176,16 +176,8 @@ impl Geometry {
     #[inline(always)]
     pub(crate) fn hold(&self, x: &mut f64, y: &mut f64, r: f64) {
         if let Geometry::Walls { min, max, .. } = *self {
-            // Only discs outside move (the others keep their bits); comparisons leave a NaN
-            // alone for the step's check to find.
-            for (v, lo, hi) in [(x, min[0], max[0]), (y, min[1], max[1])] {
-                if *v > hi - r {
-                    *v = hi - r;
-                }
-                if *v < lo + r {
-                    *v = lo + r;
-                }
-            }
+            *x = hold(*x, r, min[0], max[0]);
+            *y = hold(*y, r, min[1], max[1]);
         }
     }
 
@@ -240,6 +232,29 @@ impl Geometry {
     }
 }
 
+/// Admission is the geometry's: a particle is checked against the box it would enter.
+impl Particle {
+    /// Checks this particle against a (valid) config: finite values, and a place and size
+    /// the boundary admits.
+    pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
+        self.validate_values()?;
+        let law = Law::new(config);
+        let mass = law.mass(
+            self.radius,
+            self.mass
+                .unwrap_or(std::f64::consts::PI * self.radius * self.radius),
+        );
+        let [vx, vy] = self.velocity;
+        if !(0.5 * mass * (vx * vx + vy * vy)).is_finite() {
+            return Err(ParticleError::EnergyOverflow {
+                velocity: self.velocity,
+                mass,
+            });
+        }
+        Geometry::new(config).admit(self.position, self.radius, &law)
+    }
+}
+
 /// `p1 - p2`, as the minimum image when the box is periodic (`Some(size)`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct MinImage(Option<[f64; 2]>);
@@ -272,66 +287,6 @@ impl MinImage {
     }
 }
 
-/// One axis of the walls; returns the impulse given to the low and the high wall.
-///
-/// A disc whose centre is within its radius of a wall is put back at that distance, and its
-/// normal velocity, if it still moves into the wall, is reversed and scaled by `e`.
-#[inline]
-pub(crate) fn reflect(
-    x: &mut f64,
-    v: &mut f64,
-    r: f64,
-    lo: f64,
-    hi: f64,
-    e: f64,
-    m: f64,
-) -> (f64, f64) {
-    if *x - r < lo {
-        *x = lo + r;
-        if *v < 0.0 {
-            return (bounce(v, e, m), 0.0);
-        }
-    } else if *x + r > hi {
-        *x = hi - r;
-        if *v > 0.0 {
-            return (0.0, bounce(v, e, m));
-        }
-    }
-    (0.0, 0.0)
-}
-
-/// One axis of the walls as contacts (the solver's later passes): a disc of radius `r` and
-/// mass `m` at `position` that touches a wall and moves into it bounces. Returns the impulse
-/// given to the low and the high wall.
-#[inline]
-pub(crate) fn touch_walls(
-    position: f64,
-    v: &mut f64,
-    r: f64,
-    m: f64,
-    lo: f64,
-    hi: f64,
-    e: f64,
-) -> [f64; 2] {
-    if position <= lo + r && *v < 0.0 {
-        [bounce(v, e, m), 0.0]
-    } else if position >= hi - r && *v > 0.0 {
-        [0.0, bounce(v, e, m)]
-    } else {
-        [0.0; 2]
-    }
-}
-
-/// A wall's bounce of a disc of mass `m` moving into it at normal velocity `v`: reversed and
-/// scaled by `e`. Returns the momentum given to the wall, `m |Δv|`.
-#[inline]
-pub(crate) fn bounce(v: &mut f64, e: f64, m: f64) -> f64 {
-    let new_v = -*v * e;
-    let impulse = m * (new_v - *v).abs();
-    *v = new_v;
-    impulse
-}
-
 /// One axis of the periodic box: back into `[lo, lo + size)`. Returns the box widths the
 /// disc was moved back by (its change of image: +1 when it left through the high side).
 #[inline]
@@ -359,24 +314,6 @@ pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_wall_reflects_and_records_the_impulse() {
-        let (mut x, mut v) = (0.2, -3.0);
-        let (low, high) = reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 0.5, 2.0);
-        assert_eq!((x, v), (0.5, 1.5));
-        assert_eq!((low, high), (2.0 * 4.5, 0.0));
-    }
-
-    #[test]
-    fn a_disc_leaving_the_wall_keeps_its_velocity() {
-        let (mut x, mut v) = (9.8, -1.0);
-        assert_eq!(
-            reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 1.0, 1.0),
-            (0.0, 0.0)
-        );
-        assert_eq!((x, v), (9.5, -1.0));
-    }
 
     #[test]
     fn wrapping_lands_in_the_half_open_box() {

@@ -15,33 +15,14 @@
 //! operations in each lane, so the same bits; the boundary per disc only for a pair with a
 //! disc outside the inner bounds): a third less time for the stage, in cache and out.
 
-use crate::broadphase::{Reference, max_strays};
+use crate::broadphase::{Moved, Reference, max_strays};
 use crate::context::StepContext;
-use crate::geometry::{Geometry, MinImage, reflect, wrap};
-use crate::lanes::{F64x2, Lanes};
+use crate::geometry::{Geometry, MinImage, wrap};
+use crate::lanes::{F64x2, Lanes, max_skipping_nan};
+use crate::law::reflect;
 use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
 use crate::sum::WallSums;
-
-/// What integration reports.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Moved {
-    /// Momentum given to each wall (by the discs the step's tally counts).
-    pub impulse: WallSums,
-    /// The largest squared distance of a disc from its reference position (infinite when
-    /// there is no reference).
-    pub max_displacement2: f64,
-    /// The discs at or past the allowance from their reference positions (the broadphase's
-    /// strays), ascending; complete unless `too_many_strays`.
-    pub strays: Vec<u32>,
-    /// Whether more than [`max_strays`] discs strayed, or more than [`CHUNK_STRAYS`] in a
-    /// chunk.
-    pub too_many_strays: bool,
-    /// The largest squared displacement of the other discs.
-    pub max_kept2: f64,
-    /// The longest distance a disc moved in this substep.
-    pub max_stride: f64,
-}
 
 /// One chunk of the arrays a pass writes, and the index of its first disc.
 struct Chunk<'a> {
@@ -204,14 +185,6 @@ fn store_changed(slot: &mut f64, new: f64) {
     if slot.to_bits() != new.to_bits() {
         *slot = new;
     }
-}
-
-/// The larger of `acc` and `v`, `acc` when `v` is NaN (as `f64::max` when `acc` is never
-/// NaN, which holds for the pass's maxima, started at zero): one `maxsd` on the loop's
-/// dependency chain instead of `f64::max`'s NaN blend.
-#[inline(always)]
-pub(crate) fn max_skipping_nan(acc: f64, v: f64) -> f64 {
-    if v > acc { v } else { acc }
 }
 
 /// The squared distance of a disc at `(x, y)` from its reference, the `k`th of `rx`, `ry`,

@@ -472,6 +472,14 @@ mod imp {
     }
 }
 
+/// The larger of `acc` and `v`, `acc` when `v` is NaN (as `f64::max` when `acc` is never
+/// NaN, which holds for the pass's maxima, started at zero): one `maxsd` on the loop's
+/// dependency chain instead of `f64::max`'s NaN blend.
+#[inline(always)]
+pub(crate) fn max_skipping_nan(acc: f64, v: f64) -> f64 {
+    if v > acc { v } else { acc }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -60,14 +60,13 @@ mod sum;
 mod world;
 
 pub use config::{
-    Boundary, Config, ConfigError, MAX_SUBSTEPS, MassModel, RestitutionModel, VelocityUpdate,
+    Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Motion,
+    Obstacle, ObstacleState, RestitutionModel, Shape, Sink, VelocityUpdate,
 };
 pub use geometry::WallImpulse;
-pub use obstacles::{Motion, Obstacle, ObstacleState, Shape};
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
-pub use sources::{Emitter, EmitterState, Sink};
 pub use stats::{StepProfile, StepStats};
 pub use sum::{ExactSum, StepSums, WallSums};
 pub use world::{StepError, World, WorldError};

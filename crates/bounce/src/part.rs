@@ -9,9 +9,9 @@
 //!   is canonical, `contacts`), so a part holding every disc within the reach of the step's
 //!   chains of contacts computes those discs' new states exactly;
 //! - the contact order's grid is sized for the largest radius of the *whole* world
-//!   ([`World::set_order_radius`]), not the part's;
+//!   (`World::set_order_radius`), not the part's;
 //! - the step's sums are exact ([`crate::ExactSum`]), and each part counts only the events in
-//!   its region ([`World::set_tally`]: contacts by their lower-id disc's place, wall hits by
+//!   its region (`World::set_tally`: contacts by their lower-id disc's place, wall hits by
 //!   the disc's place), so the ranks' sums merge into the whole world's, bit for bit.
 //!
 //! [`DiscRecord`] is a disc's whole state, for moving discs between parts.
@@ -19,8 +19,6 @@
 use serde::{Deserialize, Serialize};
 
 use crate::particles::ParticleId;
-use crate::stats::StepStats;
-use crate::world::{World, WorldError};
 
 /// Which events a part's sums count: those whose place (after wrapping into a periodic box)
 /// lies in a rectangle `[x0, x1) × [y0, y1)`. The parts' rectangles tile the world, so every
@@ -154,110 +152,10 @@ impl DiscRecord {
     }
 }
 
-impl World {
-    /// The record of the disc at storage index `i`.
-    pub fn record(&self, i: usize) -> DiscRecord {
-        let p = self.particles();
-        DiscRecord {
-            id: p.ids()[i],
-            position: [p.x()[i], p.y()[i]],
-            velocity: [p.vx()[i], p.vy()[i]],
-            radius: p.radius()[i],
-            mass: p.per_particle_mass()[i],
-            image: p.image()[i],
-        }
-    }
-
-    /// A world of these discs (ids kept, stored in the order given) with this one's
-    /// configuration, clock, last statistics, obstacles, sources and id counter: a part of
-    /// this world, or (given every disc) the whole of a distributed one. Its candidates are
-    /// listed at its first step; it runs on one thread until told otherwise.
-    pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
-        let mut part = World::new(self.config().clone())?;
-        part.adopt_clock(self);
-        part.regroup(|_| true, records)?;
-        Ok(part)
-    }
-
-    /// Keeps the discs `keep` accepts (by storage index) and adds `arriving` (ids not held
-    /// here): a part's discs changing hands. All or nothing: an arriving disc that is held
-    /// already, repeated, beyond the world's ids, or has non-finite values or a radius
-    /// `<= 0` changes nothing and is the error. The candidates are listed again at the next
-    /// step, and [`World::travel`] counts from here.
-    pub fn regroup(
-        &mut self,
-        mut keep: impl FnMut(usize) -> bool,
-        arriving: &[DiscRecord],
-    ) -> Result<(), WorldError> {
-        // One bit per id: the discs here, then the arriving ones.
-        let mut seen = vec![0u64; (self.next_id() as usize).div_ceil(64)];
-        let bit = |id: ParticleId| ((id.0 / 64) as usize, 1u64 << (id.0 % 64));
-        for &id in self.particles().ids() {
-            let (word, b) = bit(id);
-            seen[word] |= b;
-        }
-        for r in arriving {
-            // States come from a running world: a disc an overlap push left a hair
-            // outside a periodic box is wrapped at the next integration, so only the values
-            // themselves are checked, not the box.
-            let values = [r.position, r.velocity, [r.radius, r.mass]];
-            if !(values.iter().flatten().all(|v| v.is_finite()) && r.radius > 0.0) {
-                return Err(WorldError::Inconsistent(format!(
-                    "disc {}: non-finite values or a radius <= 0 in {r:?}",
-                    r.id.0
-                )));
-            }
-            if r.id.0 >= self.next_id() {
-                return Err(WorldError::Inconsistent(format!(
-                    "disc {} is beyond the world's ids (next id {})",
-                    r.id.0,
-                    self.next_id()
-                )));
-            }
-            let (word, b) = bit(r.id);
-            if seen[word] & b != 0 {
-                return Err(WorldError::Inconsistent(format!(
-                    "disc {} is here already or arrives twice",
-                    r.id.0
-                )));
-            }
-            seen[word] |= b;
-        }
-        self.keep_discs(&mut keep);
-        for r in arriving {
-            self.push_record(r);
-        }
-        self.after_records();
-        self.reset_travel();
-        Ok(())
-    }
-
-    /// Sets the position and velocity `[x, y, vx, vy]` of each disc named (a part's ghosts,
-    /// from their owners; their image counts are left as they are). Every id must be here;
-    /// otherwise nothing changes.
-    pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 4])]) -> Result<(), WorldError> {
-        let mut at = Vec::with_capacity(states.len());
-        for (id, _) in states {
-            let i = self.index_of(*id).ok_or_else(|| {
-                WorldError::Inconsistent(format!("disc {} is not in this world", id.0))
-            })?;
-            at.push(i);
-        }
-        self.write_motion(&at, states);
-        Ok(())
-    }
-
-    /// Reports `stats` as the last step's: a distributed run's whole world, assembled from
-    /// its parts, reports the step's statistics merged from theirs.
-    pub fn set_reported_stats(&mut self, stats: StepStats) {
-        self.set_stats(stats);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Boundary, Config, Particle};
+    use crate::{Boundary, Config, Particle, World};
 
     #[test]
     fn tallies_wrap_periodic_places_and_tile_the_box() {

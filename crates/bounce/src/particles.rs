@@ -8,9 +8,6 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::config::Config;
-use crate::geometry::Geometry;
-use crate::law::Law;
 use crate::parallel::{CHUNK, Executor};
 
 /// A particle's stable identity, assigned in order of addition from 0. A `u32` in memory
@@ -112,26 +109,6 @@ pub enum ParticleError {
 }
 
 impl Particle {
-    /// Checks this particle against a (valid) config: finite values, and a place and size
-    /// the boundary admits.
-    pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
-        self.validate_values()?;
-        let law = Law::new(config);
-        let mass = law.mass(
-            self.radius,
-            self.mass
-                .unwrap_or(std::f64::consts::PI * self.radius * self.radius),
-        );
-        let [vx, vy] = self.velocity;
-        if !(0.5 * mass * (vx * vx + vy * vy)).is_finite() {
-            return Err(ParticleError::EnergyOverflow {
-                velocity: self.velocity,
-                mass,
-            });
-        }
-        Geometry::new(config).admit(self.position, self.radius, &law)
-    }
-
     /// Checks that every value is finite and radius and mass are positive.
     pub(crate) fn validate_values(&self) -> Result<(), ParticleError> {
         let [x, y] = self.position;

@@ -18,10 +18,10 @@ use std::ops::Range;
 use crate::config::MassModel;
 use crate::contacts::{Contact, Contacts};
 use crate::context::StepContext;
+use crate::geometry::Geometry;
 use crate::geometry::MinImage;
-use crate::geometry::{Geometry, touch_walls};
 use crate::lanes::{F64x2, F64x4, Lanes};
-use crate::law::{Law, resolve_lanes};
+use crate::law::{Law, hold, resolve_lanes, touch_walls};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::part::Tally;
 use crate::particles::Particles;
@@ -68,14 +68,6 @@ pub(crate) fn resolve_all(
         (false, true, false) => resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r),
         (false, false, false) => resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r),
     }
-}
-
-/// The walls' hold ([`Geometry::hold`]) of one coordinate per lane, `lo` and `hi` the walls.
-#[inline(always)]
-fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
-    let (lo, hi) = (L::splat(lo) + r, L::splat(hi) - r);
-    // `hi` where `v > hi`, then `lo` where `v < lo` (NaN kept): one instruction each.
-    lo.max_else(hi.min_else(v))
 }
 
 /// [`resolve_all`] with whether to prefetch (`PREFETCH`), whether the mass is the radius

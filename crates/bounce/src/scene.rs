@@ -8,10 +8,11 @@ use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::config::ObstacleState;
 use crate::config::{Boundary, Config};
 use crate::geometry::Geometry;
 use crate::law::Law;
-use crate::obstacles::{ObstacleState, Obstacles};
+use crate::obstacles::Obstacles;
 use crate::particles::Particle;
 
 /// How a generator sets velocities.

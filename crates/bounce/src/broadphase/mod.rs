@@ -65,11 +65,10 @@ mod strays;
 use std::cell::RefCell;
 
 pub(crate) use levels::{floor_to_isize, wrap_index};
-pub(crate) use reference::Reference;
+pub(crate) use reference::{Moved, Reference};
 pub(crate) use strays::{Strays, max_strays};
 
 use crate::context::StepContext;
-use crate::integrate::Moved;
 use crate::particles::{ParticleId, Particles, PermuteScratch, ordered};
 use levels::{Discs, LevelGrid};
 use reference::Skin;

@@ -8,9 +8,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::integrate::max_skipping_nan;
+use crate::lanes::max_skipping_nan;
 use crate::law::Law;
 use crate::parallel::{CHUNK, Executor};
+use crate::sum::WallSums;
 
 /// The skin is at least this fraction of the interaction diameter of the finest level's
 /// largest disc. A wider skin lists more candidates and rebuilds less often.
@@ -165,6 +166,27 @@ fn to_f32(v: &[f64], out: &mut Vec<f32>, exec: &Executor) -> f64 {
     })
     .into_iter()
     .fold(0.0, f64::max)
+}
+
+/// What integration reports: the displacement check against the reference, made while
+/// integrating (the discs are in cache then), and the walls' impulses.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Moved {
+    /// Momentum given to each wall (by the discs the step's tally counts).
+    pub impulse: WallSums,
+    /// The largest squared distance of a disc from its reference position (infinite when
+    /// there is no reference).
+    pub max_displacement2: f64,
+    /// The discs at or past the allowance from their reference positions (the broadphase's
+    /// strays), ascending; complete unless `too_many_strays`.
+    pub strays: Vec<u32>,
+    /// Whether more than [`max_strays`] discs strayed, or more than [`CHUNK_STRAYS`] in a
+    /// chunk.
+    pub too_many_strays: bool,
+    /// The largest squared displacement of the other discs.
+    pub max_kept2: f64,
+    /// The longest distance a disc moved in this substep.
+    pub max_stride: f64,
 }
 
 #[cfg(test)]

@@ -8,8 +8,11 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::obstacles::Obstacle;
-use crate::sources::{Emitter, Sink};
+mod obstacle;
+mod sources;
+
+pub use obstacle::{Motion, Obstacle, ObstacleState, Shape};
+pub use sources::{Emitter, EmitterState, Sink};
 
 /// Simulation parameters. Build with [`Config::default`] and change what you need.
 ///

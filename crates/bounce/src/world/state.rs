@@ -6,11 +6,11 @@ use serde::{Deserialize, Serialize};
 use super::{World, WorldError};
 use crate::broadphase::{Broadphase, Reference};
 use crate::config::Config;
+use crate::config::EmitterState;
+use crate::config::ObstacleState;
 use crate::geometry::Geometry;
 use crate::law::Law;
-use crate::obstacles::ObstacleState;
 use crate::particles::{Particle, Particles};
-use crate::sources::EmitterState;
 use crate::stats::StepStats;
 
 /// The serialized form of a [`World`], validated on the way in.

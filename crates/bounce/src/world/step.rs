@@ -7,12 +7,13 @@
 //! canonical order, meet the obstacles, hold the walls; then sinks and measure. The profile
 //! times each stage under its own name (`StepProfile`).
 
-use crate::broadphase::{self, Broadphase};
+use crate::broadphase::{self, Broadphase, Moved};
 use crate::config::Config;
+use crate::config::ObstacleState;
 use crate::contacts::Contacts;
 use crate::context::StepContext;
-use crate::integrate::{Moved, integrate};
-use crate::obstacles::{self, Met, ObstacleState, Obstacles, Trail};
+use crate::integrate::integrate;
+use crate::obstacles::{self, Met, Obstacles, Trail};
 use crate::part::Travel;
 use crate::particles::Particles;
 use crate::resolve::{resolve_all, resolve_walls};

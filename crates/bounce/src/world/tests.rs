@@ -4,7 +4,9 @@
 use super::state::WorldState;
 use super::*;
 use crate::Boundary;
+use crate::broadphase;
 use crate::config::MassModel;
+use crate::context::StepContext;
 use crate::scene::{self, Gas, Speeds};
 
 /// A fast polydisperse gas, so discs cross the skin within a few steps.
@@ -178,7 +180,7 @@ fn later_solver_passes_meet_the_walls() {
 fn the_profile_times_each_stage_under_its_name() {
     // The obstacles' and the walls' hold are stages of their own: a world without either
     // spends nothing there, one with both spends time in each.
-    let stepped = |obstacles: Vec<crate::obstacles::Obstacle>, passes: u32| {
+    let stepped = |obstacles: Vec<crate::Obstacle>, passes: u32| {
         let (config, discs) =
             scene::gas_in_walls(1000, [0.5, 0.5], 0.3, Speeds::Uniform(2.0), 7).unwrap();
         let config = Config {
@@ -195,8 +197,8 @@ fn the_profile_times_each_stage_under_its_name() {
     assert!(plain.integrate > 0.0 && plain.pairs > 0.0 && plain.resolve > 0.0);
     let both = stepped(
         vec![
-            crate::obstacles::Obstacle::peg([30.0, 30.0], 3.0),
-            crate::obstacles::Obstacle::segment([5.0, 5.0], [45.0, 20.0]),
+            crate::Obstacle::peg([30.0, 30.0], 3.0),
+            crate::Obstacle::segment([5.0, 5.0], [45.0, 20.0]),
         ],
         2,
     );

@@ -1,148 +1,10 @@
-//! The collision law: when two discs collide and what a collision does to them.
-//!
-//! This module is the one place that knows the seed's rule,
-//! `distance <= (r_i + r_j) * collision_radius_scale`, and its pair resolution (steps 1–7),
-//! written term for term so a test can check them against a hand calculation. A [`Law`] is
-//! built once from [`Config`]; the broadphase asks it for interaction reaches, detection for
-//! collision distances, the solver for resolutions, and scene placement and the scenario's
-//! blocks for the spacing that keeps discs apart. Changing the detection law is a change
-//! here and nowhere else.
-//!
-//! The model options of [`Config`] are the only departures from the seed, each off by default.
+//! What a collision does to a pair of discs: the seed's steps 1–7, written once over
+//! [`Lanes`] for one pair, two or four at a time, with the same bits either way.
 
-use crate::config::{Config, MassModel, RestitutionModel, VelocityUpdate};
+use crate::config::{RestitutionModel, VelocityUpdate};
 use crate::lanes::Lanes;
 
-/// The normal used when two centres coincide (distance 0): `+x`. The seed divides by the
-/// distance there; any fixed unit vector keeps the result finite and deterministic, and `+x`
-/// pushes the first disc of the pair to the right.
-pub const COINCIDENT_NORMAL: [f64; 2] = [1.0, 0.0];
-
-/// The collision law of a world: the seed's parameters and the model options, taken from
-/// [`Config`] once ([`Law::new`]).
-///
-/// ```
-/// use bounce::{Config, law::Law};
-/// let law = Law::new(&Config { collision_radius_scale: 1.2, ..Config::default() });
-/// assert_eq!(law.collision_distance(1.0, 1.0), 2.4);
-/// assert!(law.is_colliding([2.3, 0.0], 1.0, 1.0));
-/// assert!(!law.is_colliding([2.5, 0.0], 1.0, 1.0));
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Law {
-    /// The seed's `collision_radius_scale`.
-    pub collision_radius_scale: f64,
-    /// The seed's `COEFFICIENT_OF_RESTITUTION`.
-    pub restitution: f64,
-    /// How the restitution is applied.
-    pub restitution_model: RestitutionModel,
-    /// Which pairs get the velocity update.
-    pub velocity_update: VelocityUpdate,
-    /// The mass each disc has in the collision.
-    pub mass_model: MassModel,
-}
-
-impl Law {
-    /// The law `config` describes (which should be valid: see [`Config::validate`]).
-    pub fn new(config: &Config) -> Law {
-        Law {
-            collision_radius_scale: config.collision_radius_scale,
-            restitution: config.coefficient_of_restitution,
-            restitution_model: config.restitution_model,
-            velocity_update: config.velocity_update,
-            mass_model: config.mass_model,
-        }
-    }
-
-    /// The centre distance within which two discs whose radii add up to `radius_sum`
-    /// collide: `radius_sum * collision_radius_scale`. Every reach in the engine (pair
-    /// collision distances, a disc's interaction diameter, grid cells, placement spacing) is
-    /// this of some sum of radii, so the detection law changes here alone.
-    #[inline(always)]
-    pub fn reach(&self, radius_sum: f64) -> f64 {
-        radius_sum * self.collision_radius_scale
-    }
-
-    /// The seed's `collision_distance = (r1 + r2) * collision_radius_scale`.
-    #[inline(always)]
-    pub fn collision_distance(&self, r1: f64, r2: f64) -> f64 {
-        self.reach(r1 + r2)
-    }
-
-    /// The collision distance of two discs of radius `r`: how far a disc's influence
-    /// extends, what grid cells must hold.
-    #[inline(always)]
-    pub fn interaction_diameter(&self, r: f64) -> f64 {
-        self.reach(2.0 * r)
-    }
-
-    /// The seed's detection rule, `distance <= collision_distance`, where `diff = p1 - p2`
-    /// (already the minimum image in a periodic box).
-    #[inline(always)]
-    pub fn is_colliding(&self, diff: [f64; 2], r1: f64, r2: f64) -> bool {
-        self.overlap(diff, r1, r2).is_some()
-    }
-
-    /// The seed's detection rule with what it measured: `Some(overlap)`, the collision
-    /// distance less the distance (0 when touching), when the pair collides.
-    #[inline(always)]
-    pub fn overlap(&self, diff: [f64; 2], r1: f64, r2: f64) -> Option<f64> {
-        touching(diff, self.collision_distance(r1, r2))
-    }
-
-    /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
-    #[inline(always)]
-    pub fn mass(&self, radius: f64, per_particle: f64) -> f64 {
-        self.mass_model.mass(radius, per_particle)
-    }
-
-    /// The seed's steps 1–7 for one detected pair: see [`resolve_pair`].
-    #[inline(always)]
-    pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {
-        resolve_pair(diff, a, b, self)
-    }
-}
-
-/// **The detection rule**, the one place it is written: two things whose centre difference
-/// (to a peg's centre, or a segment's nearest point) is `diff` and whose collision distance
-/// is `reach` collide when `distance <= reach`; then `Some(reach - distance)`, the overlap.
-/// Every kernel asks this (or [`within`] on a distance it has, [`sqrt_limit`] and
-/// [`may_touch`], which answer from the squared distance): pairs, strays, the obstacles, the plain step. A NaN
-/// distance never collides.
-#[inline(always)]
-pub fn touching(diff: [f64; 2], reach: f64) -> Option<f64> {
-    let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
-    within(distance, reach).then_some(reach - distance)
-}
-
-/// [`touching`] for a kernel that has the distance already (and needs it after).
-#[inline(always)]
-pub fn within(distance: f64, reach: f64) -> bool {
-    distance <= reach
-}
-
-/// A screen before [`touching`]: `false` only where the squared distance `d2` rules a
-/// collision at `reach` out (a relative margin far wider than the rounding of `reach²`), so
-/// a kernel may skip the square root for most candidates.
-#[inline(always)]
-pub fn may_touch(d2: f64, reach: f64) -> bool {
-    d2 <= reach * reach * (1.0 + 1e-12)
-}
-
-/// The largest `d2` whose correctly rounded square root is at most `reach` (finite, `>= 0`):
-/// `d2 <= sqrt_limit(reach)` exactly when [`touching`] is `Some` for a squared distance
-/// `d2`, as the square root is monotone. A couple of steps of one unit in the last place
-/// from `reach²`. Kernels with one collision distance for every pair test with it.
-pub fn sqrt_limit(reach: f64) -> f64 {
-    let mut limit = reach * reach;
-    while limit.next_up().sqrt() <= reach {
-        limit = limit.next_up();
-    }
-    while limit.sqrt() > reach {
-        limit = limit.next_down();
-    }
-    limit
-}
+use super::{COINCIDENT_NORMAL, Law};
 
 /// One side of a pair going into [`resolve_pair`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -287,20 +149,7 @@ pub(crate) fn resolve_lanes<L: Lanes>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn every_reach_is_a_scaled_sum_of_radii() {
-        let law = Law::new(&Config {
-            collision_radius_scale: 1.5,
-            ..Config::default()
-        });
-        assert_eq!(law.reach(2.0), 3.0);
-        assert_eq!(law.collision_distance(1.0, 3.0), 6.0);
-        assert_eq!(law.interaction_diameter(0.5), 1.5);
-        // The rule is `<=`: touching at exactly the collision distance collides.
-        assert!(law.is_colliding([0.0, 6.0], 1.0, 3.0));
-        assert!(!law.is_colliding([0.0, 6.000001], 1.0, 3.0));
-    }
+    use crate::config::MassModel;
 
     #[test]
     fn two_pairs_in_lanes_give_each_pair_its_scalar_bits() {

@@ -1,0 +1,223 @@
+//! Particles by id: the lookup from ids to storage, reading and setting discs, and the
+//! queries a front end makes (the disc under the mouse, the colliding pairs).
+
+use crate::broadphase::{self, Broadphase};
+use crate::contacts::Contacts;
+use crate::context::StepContext;
+use crate::particles::{Particle, ParticleError, ParticleId};
+
+use super::World;
+
+impl World {
+    /// The storage index of particle `id` now.
+    pub fn index_of(&self, id: ParticleId) -> Option<usize> {
+        self.index_map().get(id)
+    }
+
+    pub(super) fn index_map(&self) -> &IndexMap {
+        self.index_of
+            .get_or_init(|| IndexMap::new(&self.particles.id, self.next_id))
+    }
+
+    /// Every disc as `(id, storage index)`, in id order (ids have gaps where a sink or
+    /// `remove_particles` took discs).
+    pub fn in_id_order(&self) -> Vec<(ParticleId, usize)> {
+        self.index_map().in_order()
+    }
+
+    /// Particle `id` as it is now.
+    pub fn particle(&self, id: ParticleId) -> Option<Particle> {
+        let mut p = self.particles.get(self.index_of(id)?)?;
+        if self.config.mass_model != crate::MassModel::PerParticle {
+            p.mass = Some(self.config.mass_model.mass(p.radius, 0.0));
+        }
+        Some(p)
+    }
+
+    /// Every particle in id order.
+    pub fn particles_by_id(&self) -> Vec<(ParticleId, Particle)> {
+        let mut ids: Vec<ParticleId> = self.particles.id.clone();
+        ids.sort_unstable();
+        ids.into_iter()
+            .filter_map(|id| Some((id, self.particle(id)?)))
+            .collect()
+    }
+
+    /// Sets the velocity of particle `id` (for interactive tools). Fails on an unknown id or a
+    /// non-finite velocity.
+    pub fn set_velocity(
+        &mut self,
+        id: ParticleId,
+        velocity: [f64; 2],
+    ) -> Result<(), ParticleError> {
+        if !velocity.iter().all(|v| v.is_finite()) {
+            return Err(ParticleError::NonFiniteVelocity(velocity));
+        }
+        let i = self.index_of(id).ok_or(ParticleError::UnknownId(id))?;
+        self.particles.vx[i] = velocity[0];
+        self.particles.vy[i] = velocity[1];
+        self.refresh_stats();
+        Ok(())
+    }
+
+    /// Moves every disc, `positions[k]` for id `k`, all or nothing: on the first position
+    /// the boundary does not admit (or not finite), returns its index and the error, and the
+    /// world is unchanged. Velocities and periodic image counts are kept.
+    pub fn set_positions(&mut self, positions: &[[f64; 2]]) -> Result<(), (usize, ParticleError)> {
+        self.set_each(positions, |particle, position| particle.position = position)?;
+        self.broadphase.invalidate();
+        Ok(())
+    }
+
+    /// Sets every disc's velocity, `velocities[k]` for id `k`, all or nothing: on the first
+    /// invalid one returns its index and the error, and the world is unchanged.
+    pub fn set_velocities(
+        &mut self,
+        velocities: &[[f64; 2]],
+    ) -> Result<(), (usize, ParticleError)> {
+        self.set_each(velocities, |particle, velocity| {
+            particle.velocity = velocity
+        })
+    }
+
+    /// Validates `values` (one per id, in id order) applied by `apply`, then writes them.
+    pub(super) fn set_each(
+        &mut self,
+        values: &[[f64; 2]],
+        apply: impl Fn(&mut Particle, [f64; 2]),
+    ) -> Result<(), (usize, ParticleError)> {
+        if values.len() != self.particles.len() {
+            return Err((
+                values.len().min(self.particles.len()),
+                ParticleError::WrongCount {
+                    expected: self.particles.len(),
+                    given: values.len(),
+                },
+            ));
+        }
+        let mut updated = Vec::with_capacity(values.len());
+        for (k, (&value, (_, i))) in values.iter().zip(self.in_id_order()).enumerate() {
+            let mut particle = self.particles.get(i).expect("an index from index_of");
+            apply(&mut particle, value);
+            particle.validate(&self.config).map_err(|e| (k, e))?;
+            updated.push((i, particle));
+        }
+        let p = &mut self.particles;
+        for (i, particle) in updated {
+            [p.x[i], p.y[i]] = particle.position;
+            [p.vx[i], p.vy[i]] = particle.velocity;
+        }
+        self.refresh_stats();
+        Ok(())
+    }
+
+    /// Adds `delta_v` to the velocity of every particle whose centre lies within `radius` of
+    /// `centre` (for interactive tools: a push). Returns how many were pushed; non-finite
+    /// arguments push nothing.
+    pub fn push_region(&mut self, centre: [f64; 2], radius: f64, delta_v: [f64; 2]) -> usize {
+        let finite = centre.iter().chain(&delta_v).all(|v| v.is_finite()) && radius.is_finite();
+        if !finite || radius < 0.0 {
+            return 0;
+        }
+        let p = &mut self.particles;
+        let mut pushed = 0;
+        for i in 0..p.len() {
+            let (dx, dy) = (p.x[i] - centre[0], p.y[i] - centre[1]);
+            if dx * dx + dy * dy <= radius * radius {
+                p.vx[i] += delta_v[0];
+                p.vy[i] += delta_v[1];
+                pushed += 1;
+            }
+        }
+        self.refresh_stats();
+        pushed
+    }
+
+    /// The particle whose disc contains `point` (the nearest centre if several overlap it).
+    pub fn particle_at(&self, point: [f64; 2]) -> Option<ParticleId> {
+        let p = &self.particles;
+        (0..p.len())
+            .filter_map(|i| {
+                let d2 = (p.x[i] - point[0]).powi(2) + (p.y[i] - point[1]).powi(2);
+                (d2 <= p.radius[i] * p.radius[i]).then_some((d2, p.id[i]))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, id)| id)
+    }
+
+    /// The pairs within the collision distance right now, as sorted id pairs, found the way a
+    /// step finds them (grids, then the law's test). A query: neither the state nor the
+    /// storage order changes.
+    pub fn colliding_pairs(&self) -> Vec<(ParticleId, ParticleId)> {
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        let p = &self.particles;
+        let mut broadphase = Broadphase::default();
+        // Any margin gives a superset of the colliding pairs; the law's test decides.
+        let r_min = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let margin = 0.25 * ctx.law.interaction_diameter(r_min);
+        broadphase.list_in_place([&p.x, &p.y, &p.radius], &ctx, margin);
+        let mut contacts = Contacts::default();
+        contacts.find(&broadphase, broadphase::BANDS, p, &ctx);
+        contacts.pair_ids(p)
+    }
+
+    /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
+    /// reference the grid is tested against. O(N²): for tests and small worlds.
+    pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
+        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        broadphase::brute_force_pairs(&self.particles, &ctx)
+    }
+}
+
+/// Where each id is stored: a table by id while ids are dense, else the sorted pairs (ids
+/// removed by sinks leave gaps; a table by id would grow with every id ever given).
+#[derive(Debug)]
+pub(super) enum IndexMap {
+    Dense(Vec<u32>),
+    Sparse(Vec<(ParticleId, u32)>),
+}
+
+impl IndexMap {
+    fn new(ids: &[ParticleId], next_id: u32) -> IndexMap {
+        if next_id as usize <= 2 * ids.len() + 1024 {
+            let mut map = vec![u32::MAX; next_id as usize];
+            for (i, id) in ids.iter().enumerate() {
+                map[id.0 as usize] = i as u32;
+            }
+            IndexMap::Dense(map)
+        } else {
+            let mut pairs: Vec<(ParticleId, u32)> = ids
+                .iter()
+                .enumerate()
+                .map(|(i, &id)| (id, i as u32))
+                .collect();
+            pairs.sort_unstable();
+            IndexMap::Sparse(pairs)
+        }
+    }
+
+    fn get(&self, id: ParticleId) -> Option<usize> {
+        match self {
+            IndexMap::Dense(map) => map
+                .get(id.0 as usize)
+                .filter(|&&i| i != u32::MAX)
+                .map(|&i| i as usize),
+            IndexMap::Sparse(pairs) => pairs
+                .binary_search_by_key(&id, |&(id, _)| id)
+                .ok()
+                .map(|k| pairs[k].1 as usize),
+        }
+    }
+
+    fn in_order(&self) -> Vec<(ParticleId, usize)> {
+        match self {
+            IndexMap::Dense(map) => map
+                .iter()
+                .enumerate()
+                .filter(|&(_, &i)| i != u32::MAX)
+                .map(|(id, &i)| (ParticleId(id as u32), i as usize))
+                .collect(),
+            IndexMap::Sparse(pairs) => pairs.iter().map(|&(id, i)| (id, i as usize)).collect(),
+        }
+    }
+}

@@ -1,0 +1,218 @@
+//! The world's side of distributed runs (see `part`): records of discs, a part of the
+//! world, discs leaving and arriving, ghost states written from their owners.
+
+use std::sync::OnceLock;
+
+use crate::part::{DiscRecord, Tally, Travel};
+use crate::particles::ParticleId;
+use crate::stats::StepStats;
+use crate::sum::StepSums;
+
+use super::{World, WorldError};
+
+impl World {
+    /// The record of the disc at storage index `i`.
+    pub fn record(&self, i: usize) -> DiscRecord {
+        let p = self.particles();
+        DiscRecord {
+            id: p.ids()[i],
+            position: [p.x()[i], p.y()[i]],
+            velocity: [p.vx()[i], p.vy()[i]],
+            radius: p.radius()[i],
+            mass: p.per_particle_mass()[i],
+            image: p.image()[i],
+        }
+    }
+
+    /// A world of these discs (ids kept, stored in the order given) with this one's
+    /// configuration, clock, last statistics, obstacles, sources and id counter: a part of
+    /// this world, or (given every disc) the whole of a distributed one. Its candidates are
+    /// listed at its first step; it runs on one thread until told otherwise.
+    pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
+        let mut part = World::new(self.config().clone())?;
+        part.adopt_clock(self);
+        part.regroup(|_| true, records)?;
+        Ok(part)
+    }
+
+    /// Keeps the discs `keep` accepts (by storage index) and adds `arriving` (ids not held
+    /// here): a part's discs changing hands. All or nothing: an arriving disc that is held
+    /// already, repeated, beyond the world's ids, or has non-finite values or a radius
+    /// `<= 0` changes nothing and is the error. The candidates are listed again at the next
+    /// step, and [`World::travel`] counts from here.
+    pub fn regroup(
+        &mut self,
+        mut keep: impl FnMut(usize) -> bool,
+        arriving: &[DiscRecord],
+    ) -> Result<(), WorldError> {
+        // One bit per id: the discs here, then the arriving ones.
+        let mut seen = vec![0u64; (self.next_id() as usize).div_ceil(64)];
+        let bit = |id: ParticleId| ((id.0 / 64) as usize, 1u64 << (id.0 % 64));
+        for &id in self.particles().ids() {
+            let (word, b) = bit(id);
+            seen[word] |= b;
+        }
+        for r in arriving {
+            // States come from a running world: a disc an overlap push left a hair
+            // outside a periodic box is wrapped at the next integration, so only the values
+            // themselves are checked, not the box.
+            let values = [r.position, r.velocity, [r.radius, r.mass]];
+            if !(values.iter().flatten().all(|v| v.is_finite()) && r.radius > 0.0) {
+                return Err(WorldError::Inconsistent(format!(
+                    "disc {}: non-finite values or a radius <= 0 in {r:?}",
+                    r.id.0
+                )));
+            }
+            if r.id.0 >= self.next_id() {
+                return Err(WorldError::Inconsistent(format!(
+                    "disc {} is beyond the world's ids (next id {})",
+                    r.id.0,
+                    self.next_id()
+                )));
+            }
+            let (word, b) = bit(r.id);
+            if seen[word] & b != 0 {
+                return Err(WorldError::Inconsistent(format!(
+                    "disc {} is here already or arrives twice",
+                    r.id.0
+                )));
+            }
+            seen[word] |= b;
+        }
+        self.keep_discs(&mut keep);
+        for r in arriving {
+            self.push_record(r);
+        }
+        self.after_records();
+        self.reset_travel();
+        Ok(())
+    }
+
+    /// Sets the position and velocity `[x, y, vx, vy]` of each disc named (a part's ghosts,
+    /// from their owners; their image counts are left as they are). Every id must be here;
+    /// otherwise nothing changes.
+    pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 4])]) -> Result<(), WorldError> {
+        let mut at = Vec::with_capacity(states.len());
+        for (id, _) in states {
+            let i = self.index_of(*id).ok_or_else(|| {
+                WorldError::Inconsistent(format!("disc {} is not in this world", id.0))
+            })?;
+            at.push(i);
+        }
+        self.write_motion(&at, states);
+        Ok(())
+    }
+
+    /// Reports `stats` as the last step's: a distributed run's whole world, assembled from
+    /// its parts, reports the step's statistics merged from theirs.
+    pub fn set_reported_stats(&mut self, stats: StepStats) {
+        self.set_stats(stats);
+    }
+}
+
+impl World {
+    /// Counts only the events in `tally`'s region in the step's sums (`None`: all): for a
+    /// part of a distributed world, see [`Tally`].
+    pub fn set_tally(&mut self, tally: Option<Tally>) {
+        self.tally = tally;
+    }
+
+    /// Sizes the contact order's grid for discs up to `radius` (or this world's largest, if
+    /// larger): a part of a distributed world gives the whole world's largest radius, so
+    /// that its contacts fall in the same order.
+    pub fn set_order_radius(&mut self, radius: f64) {
+        self.order_radius = radius;
+    }
+
+    /// How much of the candidate list's life the discs have used (the farthest disc's
+    /// distance from where the list was made over the distance that forces a new list, not
+    /// counting the few met alone, the strays, or their count over their cap if that is
+    /// more): at 1 the next substep lists again. `None` while no list is kept.
+    pub fn candidates_worn(&self) -> Option<f64> {
+        let bp = &self.broadphase;
+        let allowance = bp.reference.allowance();
+        (bp.reference.positions(self.particles.len()).is_some() && allowance > 0.0)
+            .then(|| bp.worn())
+    }
+
+    /// Lists the candidates afresh at the next step, however little the discs moved: the
+    /// parts of a distributed world list together (their steps wait for the slowest part,
+    /// and listing costs several plain steps), not each on its own schedule. Results do not
+    /// change: which pairs collide never depends on when lists are made.
+    pub fn relist(&mut self) {
+        self.broadphase.invalidate();
+    }
+
+    /// Bounds on how far any disc has moved, from what the broadphase measures anyway (see
+    /// [`Travel`]): a distributed run decides from it when its discs must change hands.
+    pub fn travel(&self) -> Travel {
+        self.travel
+    }
+
+    /// The exact sums of the last step (see [`StepSums`]).
+    pub fn step_sums(&self) -> &StepSums {
+        &self.sums
+    }
+
+    /// Takes `other`'s clock, last statistics, obstacles, sources and id counter.
+    pub(crate) fn adopt_clock(&mut self, other: &World) {
+        self.next_id = other.next_id;
+        self.time = other.time;
+        self.steps = other.steps;
+        self.stats = other.stats;
+        self.obstacle_states = other.obstacle_states.clone();
+        self.obstacle_impulses = other.obstacle_impulses.clone();
+        self.obstacle_work = other.obstacle_work;
+        self.emitter_states = other.emitter_states.clone();
+        self.removed = other.removed;
+        self.emitted_ids = other.emitted_ids.clone();
+    }
+
+    pub(crate) fn reset_travel(&mut self) {
+        self.travel = Travel::default();
+    }
+
+    /// Keeps the discs `keep` accepts, by storage index.
+    pub(crate) fn keep_discs(&mut self, keep: &mut impl FnMut(usize) -> bool) {
+        let kept: Vec<bool> = (0..self.particles.len()).map(keep).collect();
+        self.particles.retain(|i| kept[i]);
+    }
+
+    /// Appends a disc with its id and image counts (checked by the caller).
+    pub(crate) fn push_record(&mut self, r: &DiscRecord) {
+        let p = &mut self.particles;
+        p.id.push(r.id);
+        p.x.push(r.position[0]);
+        p.y.push(r.position[1]);
+        p.vx.push(r.velocity[0]);
+        p.vy.push(r.velocity[1]);
+        p.radius.push(r.radius);
+        p.mass.push(r.mass);
+        p.image.push(r.image);
+    }
+
+    /// After discs were pushed: ids, broadphase and measurements brought up to date (the
+    /// last statistics' energy and momentum kept as adopted).
+    pub(crate) fn after_records(&mut self) {
+        self.index_of = OnceLock::new();
+        self.obstacles = None;
+        self.broadphase.invalidate();
+        let stats = self.stats;
+        self.remeasure();
+        self.stats = stats;
+        // Ids run to `next_id` with gaps: the removed ones and, in a part, the others'.
+        self.removed = self.next_id - self.particles.len() as u32;
+    }
+
+    /// Writes positions and velocities at storage indices `at`.
+    pub(crate) fn write_motion(&mut self, at: &[usize], states: &[(ParticleId, [f64; 4])]) {
+        let p = &mut self.particles;
+        for (&i, (_, [x, y, vx, vy])) in at.iter().zip(states) {
+            (p.x[i], p.y[i], p.vx[i], p.vy[i]) = (*x, *y, *vx, *vy);
+        }
+    }
+
+    pub(crate) fn set_stats(&mut self, stats: StepStats) {
+        self.stats = stats;
+    }
+}
