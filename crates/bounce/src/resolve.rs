@@ -43,6 +43,13 @@ pub(crate) fn resolve_all(
     ctx: &StepContext,
     uniform_radius: Option<f64>,
 ) -> ExactSum {
+    // What the unsafe writes below rely on, checked once: the contacts index this storage
+    // (their pieces' disjointness is `Contacts`' own invariant).
+    assert_eq!(
+        contacts.found_for(),
+        p.len(),
+        "contacts found for other particles"
+    );
     // One loop per common case, so the boundary and the mass model are decided once, not
     // per contact.
     let walls = match ctx.geometry {
@@ -51,7 +58,7 @@ pub(crate) fn resolve_all(
     };
     // Dense contacts (a pile) share their discs' cache lines; scattered ones (a gas) wait
     // for memory unless their discs are asked for ahead.
-    let scattered = contacts.list.len() < p.len() / 4;
+    let scattered = contacts.list().len() < p.len() / 4;
     let radius_is_mass = ctx.law.mass_model == MassModel::Radius;
     // Equal discs' radius is one number: not a fifth cache line per scattered disc, and for
     // dense contacts (which find theirs in cache) no lanes to gather and no sums of radii
@@ -220,7 +227,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         tally,
     };
     let mut virial = ExactSum::new();
-    let list = &contacts.list[..];
+    let list = contacts.list();
     // The `k`th contacts of runs that touch disjoint discs, one per lane.
     //
     // SAFETY (for callers): the runs touch disjoint discs, as for `resolve`; there are at
@@ -290,7 +297,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             }
         }
     };
-    for phase in &contacts.phases {
+    for phase in contacts.phases() {
         // A contact costs a few cache misses: count it as a few discs' work.
         let work = 4 * phase
             .clone()
@@ -298,7 +305,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             .sum::<usize>();
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
             let mut virial = ExactSum::new();
-            for segments in &contacts.pieces[piece] {
+            for segments in &contacts.pieces()[piece] {
                 for s in segments.clone() {
                     segment(s, &mut virial);
                 }

@@ -98,8 +98,9 @@ pub(crate) struct Broadphase {
     /// Global cell `c` holds storage indices `cell_start[c]..cell_start[c + 1]`.
     cell_start: Vec<u32>,
     blocks: Vec<Block>,
-    /// Candidate pairs listed by each block, in bands.
-    pub(crate) candidates: Vec<Bands>,
+    /// Candidate pairs listed by each block, in bands. Written only here: every index is
+    /// below `count`, which detection's unchecked reads rely on.
+    candidates: Vec<Bands>,
     /// The width of a band at the last listing (half its margin).
     band_width: f64,
     /// A bound on the rounding of the listing's distances (a billionth of its longest cut).
@@ -155,6 +156,12 @@ impl Broadphase {
     /// Which listing the candidates are from (see `contacts`' presorted candidates).
     pub(crate) fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// The candidate pairs of each block, in bands: storage indices below
+    /// [`Broadphase::listed_count`].
+    pub(crate) fn candidates(&self) -> &[Bands] {
+        &self.candidates
     }
 
     /// How many discs the candidates were listed for, if they are listed.

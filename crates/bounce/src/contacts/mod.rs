@@ -128,21 +128,28 @@ pub(crate) struct Detection {
 }
 
 /// The contacts of the last detection, in canonical order.
+///
+/// What the solver's unsafe code relies on is kept here, in private fields that only this
+/// module writes: every index of `list` is below `found_for` (the storage the detection
+/// tested), and the pieces of one phase touch disjoint discs (see [`Contacts::split`]).
+/// The solver checks `found_for` against the particles it is given.
 #[derive(Debug, Default)]
 pub(crate) struct Contacts {
     /// Contacts found per candidate block, before sorting.
     found: Vec<Vec<Contact>>,
+    /// The number of discs whose storage indices the contacts hold.
+    found_for: usize,
     /// All contacts in canonical order.
-    pub(crate) list: Vec<Contact>,
+    list: Vec<Contact>,
     /// Runs of `list` of one colour in one block row: whole blocks that touch disjoint
     /// discs.
-    pub(crate) segments: Vec<Range<usize>>,
+    segments: Vec<Range<usize>>,
     /// Work that may be resolved in parallel with the other pieces of its phase: ranges of
     /// `segments`, resolved in order.
-    pub(crate) pieces: Vec<[Range<usize>; 2]>,
+    pieces: Vec<[Range<usize>; 2]>,
     /// Ranges of `pieces`, resolved one after the other: the bands, then their first odd
     /// rows.
-    pub(crate) phases: Vec<Range<usize>>,
+    phases: Vec<Range<usize>>,
     /// Scratch of the bucket sort: contacts per order block, then block starts.
     bucket_start: Vec<u32>,
     /// The near candidates in canonical order, when contacts are dense.
@@ -176,16 +183,18 @@ impl Contacts {
     ) -> Detection {
         let radius = broadphase.max_radius().max(ctx.order_radius);
         let grid = OrderGrid::new(&ctx.geometry, &ctx.law, radius);
-        // Candidate indices are storage indices of this many discs (the list is rebuilt
-        // whenever discs are added or reordered): what `test` relies on.
+        // Candidate indices are storage indices of this many discs (the broadphase keeps
+        // every index below its listed count, and lists anew whenever discs are added or
+        // reordered): what `detect` relies on.
         assert_eq!(
             broadphase.listed_count(),
             Some(p.len()),
             "stale candidate list"
         );
+        self.found_for = p.len();
         let bands = bands.clamp(1, BANDS);
         let tested: usize = broadphase
-            .candidates
+            .candidates()
             .iter()
             .flat_map(|b| &b[..bands])
             .map(Vec::len)
@@ -240,7 +249,7 @@ impl Contacts {
         ctx: &StepContext,
         work: usize,
     ) -> f64 {
-        let candidates = &broadphase.candidates;
+        let candidates = broadphase.candidates();
         // One list per candidate block, and the strays' last.
         self.found.resize_with(candidates.len() + 1, Vec::new);
         self.found.truncate(candidates.len() + 1);
@@ -465,6 +474,27 @@ impl Contacts {
     #[cfg(test)]
     pub(crate) fn presorted_generation(&self) -> Option<u64> {
         self.presorted.generation
+    }
+
+    /// The contacts in canonical order.
+    pub(crate) fn list(&self) -> &[Contact] {
+        &self.list
+    }
+
+    /// The number of discs whose storage indices the contacts hold.
+    pub(crate) fn found_for(&self) -> usize {
+        self.found_for
+    }
+
+    /// Ranges of [`Contacts::pieces`] resolved one after the other; the pieces of one
+    /// phase touch disjoint discs.
+    pub(crate) fn phases(&self) -> &[Range<usize>] {
+        &self.phases
+    }
+
+    /// The segments of each piece, resolved in order (two ranges: its band, then the rest).
+    pub(crate) fn pieces(&self) -> &[[Range<usize>; 2]] {
+        &self.pieces
     }
 
     /// The contacts as sorted id pairs.

@@ -74,7 +74,7 @@ impl Contacts {
             }
         });
         // Every near candidate as a contact-to-be, sorted like contacts.
-        let candidates = &broadphase.candidates;
+        let candidates = broadphase.candidates();
         self.found.resize_with(candidates.len(), Vec::new);
         self.found.truncate(candidates.len());
         let work = candidates.iter().map(|b| b[0].len()).sum();
@@ -172,19 +172,15 @@ impl Contacts {
                 // Whether the last contact keyed has its block's key (is in place).
                 let (block, in_place) = (std::cell::Cell::new(0), std::cell::Cell::new(true));
                 let key = |k: usize, x: f64, y: f64| {
-                    debug_assert!(first + k < blocks.last().map_or(0, |b| b.1 as usize));
-                    debug_assert_eq!(blocks.len(), spans.len());
-                    // SAFETY: candidate `k` of `pairs` lies in one of the chunk's blocks, and
-                    // the last of them ends `pairs`: the walk stops within `blocks` (and
-                    // `spans`, one a block).
-                    let (block_key, [x_lo, x_hi, y_lo, y_hi]) = unsafe {
-                        let mut b = block.get();
-                        while blocks.get_unchecked(b).1 as usize <= first + k {
-                            b += 1;
-                        }
-                        block.set(b);
-                        (blocks.get_unchecked(b).0, *spans.get_unchecked(b))
-                    };
+                    // Candidate `k` of `pairs` lies in one of the chunk's blocks, and the last
+                    // of them ends `pairs`: the walk stops within `blocks` (and `spans`, one a
+                    // block). Checked indexing: as fast here as unchecked.
+                    let mut b = block.get();
+                    while blocks[b].1 as usize <= first + k {
+                        b += 1;
+                    }
+                    block.set(b);
+                    let (block_key, [x_lo, x_hi, y_lo, y_hi]) = (blocks[b].0, spans[b]);
                     if x >= x_lo && x < x_hi && y >= y_lo && y < y_hi {
                         in_place.set(true);
                         block_key
@@ -208,7 +204,7 @@ impl Contacts {
         let mut max_overlap = overlaps.into_iter().fold(0.0, f64::max);
         far.clear();
         if bands > 1 {
-            let candidates = &broadphase.candidates;
+            let candidates = broadphase.candidates();
             let work = candidates.iter().map(|b| b[1].len()).sum();
             let tested = ctx.exec.map_index(work, 0..candidates.len(), |block| {
                 let mut found = Vec::new();

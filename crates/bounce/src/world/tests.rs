@@ -366,7 +366,7 @@ fn a_far_pair_that_closes_in_is_found() {
         ])
         .unwrap();
     world.step(1.0 / 60.0).unwrap();
-    assert_eq!(world.broadphase.candidates[0][1].len(), 1, "listed far");
+    assert_eq!(world.broadphase.candidates()[0][1].len(), 1, "listed far");
     let mut contacts_at = None;
     for step in 2..=12 {
         let stats = *world.step(1.0 / 60.0).unwrap();
@@ -377,7 +377,7 @@ fn a_far_pair_that_closes_in_is_found() {
             let ctx = StepContext::new(&world.config, 0.0, &world.exec, None);
             let mut contacts = Contacts::default();
             contacts.find(&world.broadphase, 1, &world.particles, &ctx);
-            assert!(contacts.list.is_empty());
+            assert!(contacts.list().is_empty());
         }
     }
     assert_eq!(contacts_at, Some(10));
@@ -587,7 +587,7 @@ fn equal_discs_known_to_be_equal_give_the_plain_steps_bits() {
 fn resolve_one_by_one(contacts: &Contacts, p: &mut Particles, ctx: &StepContext) -> f64 {
     let min_image = ctx.geometry.min_image();
     let mut virial = crate::sum::ExactSum::new();
-    for c in &contacts.list {
+    for c in contacts.list() {
         let (a, b) = (c.a as usize, c.b as usize);
         let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
         let body = |i: usize| crate::law::Body {
@@ -644,7 +644,7 @@ fn the_solver_lanes_give_the_bits_of_the_seed_loop() {
             world
                 .contacts
                 .find(bp, broadphase::BANDS, &world.particles, &ctx);
-            let found = world.contacts.list.len();
+            let found = world.contacts.list().len();
             assert!(
                 found > 1000,
                 "{case}: {found} contacts, {} in the step",
