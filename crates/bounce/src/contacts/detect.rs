@@ -83,7 +83,8 @@ unsafe fn detect_skipping(
 /// `emit` with the index of its candidate, in candidate order; returns the largest overlap.
 /// `diff` is `p1 - p2` (the minimum image in a periodic box), `reach` the collision distance
 /// of a pair, and pairs `skip` accepts (checked only for those that pass the screen) are
-/// left out.
+/// left out. `key_of(k, x, y)` gives a contact's order key from its candidate's index `k`
+/// (always below `candidates.len()`) and its lower-id disc's position.
 ///
 /// # Safety
 /// Every index in `candidates` is below `p.len()`.

@@ -171,16 +171,23 @@ impl Contacts {
                 // inside its block's span has its key without the arithmetic.
                 // Whether the last contact keyed has its block's key (is in place).
                 let (block, in_place) = (std::cell::Cell::new(0), std::cell::Cell::new(true));
+                // What the unchecked walk below relies on, checked once a chunk: a span per
+                // block. The last block ends `pairs` (as `pairs` is cut), so for a candidate
+                // `k` of `pairs` (`detect` keys only those) the walk stops within `blocks`.
+                assert_eq!(blocks.len(), spans.len(), "a span per presorted block");
                 let key = |k: usize, x: f64, y: f64| {
-                    // Candidate `k` of `pairs` lies in one of the chunk's blocks, and the last
-                    // of them ends `pairs`: the walk stops within `blocks` (and `spans`, one a
-                    // block). Checked indexing: as fast here as unchecked.
-                    let mut b = block.get();
-                    while blocks[b].1 as usize <= first + k {
-                        b += 1;
-                    }
-                    block.set(b);
-                    let (block_key, [x_lo, x_hi, y_lo, y_hi]) = (blocks[b].0, spans[b]);
+                    debug_assert!(first + k < blocks.last().map_or(0, |b| b.1 as usize));
+                    // SAFETY: `k < pairs.len()`, and the last of `blocks` ends at
+                    // `first + pairs.len()`: the walk stops at a block of `blocks` (and of
+                    // `spans`, as long), starting from one it stopped at before.
+                    let (block_key, [x_lo, x_hi, y_lo, y_hi]) = unsafe {
+                        let mut b = block.get();
+                        while blocks.get_unchecked(b).1 as usize <= first + k {
+                            b += 1;
+                        }
+                        block.set(b);
+                        (blocks.get_unchecked(b).0, *spans.get_unchecked(b))
+                    };
                     if x >= x_lo && x < x_hi && y >= y_lo && y < y_hi {
                         in_place.set(true);
                         block_key
