@@ -111,10 +111,16 @@ impl Painter {
             anti_alias: true,
             ..Paint::default()
         };
+        let (width, height) = (self.width as f32, self.height as f32);
         // In id order: overlapping discs are drawn the same way whatever the storage order.
         for (_, i) in world.in_id_order() {
             let (x, y) = self.to_pixel(p.x()[i], p.y()[i]);
             let r = (p.radius()[i] * scale) as f32;
+            // Only discs that reach into the picture: a frame of a small view of a large
+            // world draws a few thousand of its million discs.
+            if !(x + r >= 0.0 && x - r <= width && y + r >= 0.0 && y - r <= height) {
+                continue;
+            }
             let speed = p.vx()[i].hypot(p.vy()[i]);
             paint.set_color(rgb(self.palette.colour(
                 p.ids()[i].0 as usize,
@@ -314,4 +320,45 @@ pub fn gif_from_frames(
         gif.add(&pixmap)?;
     }
     gif.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bounce::{Config, Particle};
+
+    /// The painted pixels of `discs` in the view `[0, 10]²` at 100 pixels, with a blue
+    /// scenario colour for every disc.
+    fn painted(discs: &[([f64; 2], f64)]) -> Vec<bool> {
+        let mut world = World::new(Config::default()).unwrap();
+        for &(position, radius) in discs {
+            world
+                .add_particle(Particle::new(position, [0.0, 0.0], radius))
+                .unwrap();
+        }
+        let colours = vec![Some([0, 0, 255]); discs.len()];
+        let painter = Painter::new(
+            &world,
+            ([0.0, 0.0], [10.0, 10.0]),
+            100,
+            ColorBy::Color,
+            colours,
+        );
+        let pixmap = painter.paint(&world);
+        pixmap.pixels().iter().map(|p| p.blue() > 200).collect()
+    }
+
+    #[test]
+    fn discs_reaching_into_the_view_are_drawn_and_the_rest_are_not() {
+        // Centred outside the view, reaching 0.5 into it: its edge shows.
+        let edge = painted(&[([-0.5, 5.0], 1.0)]);
+        assert!(edge[50 * 100], "the disc's part inside the view is drawn");
+        assert!(!edge[50 * 100 + 10]);
+        // Far outside, huge or not: nothing.
+        let outside = painted(&[([-50.0, 5.0], 1.0), ([5.0, 1e9], 3.0)]);
+        assert!(outside.iter().all(|&blue| !blue));
+        // Inside: drawn.
+        let inside = painted(&[([5.0, 5.0], 1.0)]);
+        assert!(inside[50 * 100 + 50]);
+    }
 }
