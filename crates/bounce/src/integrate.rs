@@ -1,17 +1,17 @@
 //! Time integration: semi-implicit (symplectic) Euler with uniform gravity, then the boundary.
 //!
 //! `v += g h; x += v h` for each disc, and the boundary applied right after it moves, in one
-//! pass over memory. The same pass measures how far each disc now is from its broadphase
-//! reference position, so checking the candidate list costs no extra pass, and notes the
+//! sweep over memory. The same sweep measures how far each disc now is from its broadphase
+//! reference position, so checking the candidate list costs no extra sweep, and notes the
 //! discs past the list's allowance (the broadphase's strays) without a branch. It runs over fixed chunks; the wall impulses
 //! are summed exactly (`sum`), so they depend on neither the thread count nor the storage
 //! order.
 //!
-//! The pass is compute-bound, so the boundary and the reference check are chosen once per
-//! pass, not per disc, their constants are copied into each chunk's frame (kept in
+//! The sweep is compute-bound, so the boundary and the reference check are chosen once per
+//! sweep, not per disc, their constants are copied into each chunk's frame (kept in
 //! registers), and walls only read a disc's radius and mass when it is outside inner bounds
 //! a largest radius (and a little more) from each wall. Outside a periodic box, with a
-//! reference, two discs go through the pass at a time in the lanes of `F64x2` (the scalar
+//! reference, two discs go through the sweep at a time in the lanes of `F64x2` (the scalar
 //! operations in each lane, so the same bits; the boundary per disc only for a pair with a
 //! disc outside the inner bounds): a third less time for the stage, in cache and out.
 
@@ -24,7 +24,7 @@ use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
 use crate::sum::WallSums;
 
-/// One chunk of the arrays a pass writes, and the index of its first disc.
+/// One chunk of the arrays a sweep writes, and the index of its first disc.
 struct Chunk<'a> {
     base: usize,
     x: &'a mut [f64],
@@ -70,7 +70,7 @@ pub(crate) fn integrate(
                 image,
             })
             .collect();
-    let pass = Pass {
+    let sweep = Sweep {
         gravity: ctx.gravity,
         h: ctx.h,
         min_image: ctx.geometry.min_image(),
@@ -80,14 +80,14 @@ pub(crate) fn integrate(
     let chunks = &mut chunks[..];
     let exec = ctx.exec;
     let partial = match ctx.geometry {
-        Geometry::Open => pass.run(
+        Geometry::Open => sweep.run(
             exec,
             chunks,
             Some(([f64::NEG_INFINITY; 2], [f64::INFINITY; 2])),
             #[inline(always)]
             |_, _, _, _| {},
         ),
-        Geometry::Periodic { min, size, .. } => pass.run(
+        Geometry::Periodic { min, size, .. } => sweep.run(
             exec,
             chunks,
             None,
@@ -113,7 +113,7 @@ pub(crate) fn integrate(
             let slack = 1e-9 * scale;
             let inner_min = [0, 1].map(|a| min[a] + max_radius + slack);
             let inner_max = [0, 1].map(|a| max[a] - max_radius - slack);
-            pass.run(
+            sweep.run(
                 exec,
                 chunks,
                 Some((inner_min, inner_max)),
@@ -162,7 +162,7 @@ pub(crate) fn integrate(
     moved
 }
 
-/// Adds a wall hit's impulses, if the tally counts the disc: out of line, so the pass's
+/// Adds a wall hit's impulses, if the tally counts the disc: out of line, so the sweep's
 /// per-disc closure stays small enough to be inlined (hits are rare).
 #[inline(never)]
 fn record_hit(
@@ -178,7 +178,7 @@ fn record_hit(
 
 /// Stores `new` in `slot` only where its bits differ. Without gravity (along an axis) a
 /// velocity changes only at a wall, so its cache line stays clean and is never written back:
-/// at 10^7 discs, beyond the last-level cache, that is two of the pass's eight streams of
+/// at 10^7 discs, beyond the last-level cache, that is two of the sweep's eight streams of
 /// memory traffic. The bits stored are the same either way.
 #[inline(always)]
 fn store_changed(slot: &mut f64, new: f64) {
@@ -201,8 +201,8 @@ fn plain_displacement2<'a>(rx: &'a [f32], ry: &'a [f32]) -> impl Fn(usize, f64, 
 /// the few, and a bunch of them in one place is better listed anew.
 const CHUNK_STRAYS: usize = 64;
 
-/// The constants of one pass.
-struct Pass<'r> {
+/// The constants of one sweep.
+struct Sweep<'r> {
     gravity: [f64; 2],
     h: f64,
     min_image: MinImage,
@@ -211,7 +211,7 @@ struct Pass<'r> {
     stray2: f64,
 }
 
-/// What one chunk of the pass measured.
+/// What one chunk of the sweep measured.
 struct ChunkMoved {
     impulse: WallSums,
     max_displacement2: f64,
@@ -246,8 +246,8 @@ impl ChunkMoved {
     }
 }
 
-impl<'r> Pass<'r> {
-    /// The pass over the chunks, with the boundary and the reference check chosen once;
+impl<'r> Sweep<'r> {
+    /// The sweep over the chunks, with the boundary and the reference check chosen once;
     /// per chunk the wall impulse, the largest squared displacements and speed, the strays.
     /// `inner`, when given, is a box inside which `boundary` leaves a disc as it is.
     fn run(
@@ -275,7 +275,7 @@ impl<'r> Pass<'r> {
         }
     }
 
-    /// [`Pass::run`] with reference positions `(rx, ry)`, one disc at a time (a periodic
+    /// [`Sweep::run`] with reference positions `(rx, ry)`, one disc at a time (a periodic
     /// box): each chunk measures displacements from its slice of them, `diff` giving
     /// position minus reference.
     fn run_displaced(
@@ -363,12 +363,12 @@ impl<'r> Pass<'r> {
         )
     }
 
-    /// [`Pass::chunk`] for plain (not periodic) displacements from `(rx, ry)`, two discs at
+    /// [`Sweep::chunk`] for plain (not periodic) displacements from `(rx, ry)`, two discs at
     /// a time in the lanes of [`F64x2`], every lane with the scalar operations in the scalar
-    /// order (so the same bits): the pass is compute-bound while the arrays are in cache.
+    /// order (so the same bits): the sweep is compute-bound while the arrays are in cache.
     /// `boundary` leaves discs inside `inner` as they are, so it is called (per disc, as the
-    /// scalar pass calls it) only for a pair with a disc outside; an odd last disc goes
-    /// through [`Pass::chunk`].
+    /// scalar sweep calls it) only for a pair with a disc outside; an odd last disc goes
+    /// through [`Sweep::chunk`].
     #[inline(always)]
     fn chunk_in_pairs(
         &self,
@@ -449,7 +449,7 @@ impl<'r> Pass<'r> {
             strays[stray_count.min(CHUNK_STRAYS)] = k as u32 + 1;
             stray_count += strayed1 as usize;
         }
-        // The odd last disc, if any, through the scalar pass.
+        // The odd last disc, if any, through the scalar sweep.
         let last = (paired < len).then(|| {
             let mut rest = Chunk {
                 base: base + paired,
@@ -623,7 +623,7 @@ mod tests {
                 .flat_map(|v| v.iter().map(|v| v.to_bits()))
                 .collect()
         };
-        // Without a reference (the scalar pass) and with one (two discs at a time).
+        // Without a reference (the scalar sweep) and with one (two discs at a time).
         let recorded = Reference::at(&p.x, &p.y, 1.0);
         assert!(recorded.positions(p.len()).is_some(), "a reference");
         for reference in [Reference::default(), recorded] {
@@ -654,8 +654,8 @@ mod tests {
     #[test]
     fn the_pass_in_pairs_gives_the_scalar_bits() {
         // Discs moving under gravity in a walled box, many crossing a wall, one with a NaN
-        // velocity and one flung far: the pass two at a time leaves the same bits and
-        // measures the same as the scalar pass, for even and odd chunks, with strays below,
+        // velocity and one flung far: the sweep two at a time leaves the same bits and
+        // measures the same as the scalar sweep, for even and odd chunks, with strays below,
         // at and past the cap (the odd last disc tipping it over).
         use rand::{RngExt, SeedableRng};
         let (min, max, r, e) = ([0.0, 0.0], [10.0, 10.0], 0.25, 0.8);
@@ -701,7 +701,7 @@ mod tests {
             for k in 0..far {
                 rx[len - 1 - 5 * k] += 1.0;
             }
-            let pass_with = |stray2| Pass {
+            let pass_with = |stray2| Sweep {
                 gravity: [0.3, -9.81],
                 h: 0.02,
                 min_image: Geometry::Open.min_image(),
@@ -725,14 +725,14 @@ mod tests {
                 near.max_kept2
             };
             assert!(stray2 > 0.01 && stray2 < allowance * allowance);
-            let pass = pass_with(stray2);
+            let sweep = pass_with(stray2);
             let mut paired_image = image.clone();
-            let one = pass.chunk(
+            let one = sweep.chunk(
                 &mut chunk_of(&mut scalar, &mut image),
                 &boundary,
                 &displacement2,
             );
-            let two = pass.chunk_in_pairs(
+            let two = sweep.chunk_in_pairs(
                 &mut chunk_of(&mut paired, &mut paired_image),
                 &boundary,
                 (inner_min, inner_max),

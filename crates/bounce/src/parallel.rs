@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-/// Particles per chunk for per-particle passes. Partial sums are taken per chunk and added in
+/// Particles per chunk for per-particle sweeps. Partial sums are taken per chunk and added in
 /// chunk order, so floating-point sums do not depend on the thread count.
 pub(crate) const CHUNK: usize = 4096;
 

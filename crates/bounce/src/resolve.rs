@@ -81,7 +81,7 @@ pub(crate) fn resolve_all(
 /// (`RADIUS_MASS`, the seed's model) and whether every disc has radius `uniform_radius`
 /// (`UNIFORM`) fixed, and the walls' corners if any.
 ///
-/// Each segment of a piece (one colour of one block row) is cut at block boundaries into four
+/// Each colour row of a piece (one colour of one block row) is cut at block boundaries into four
 /// quarters, which touch disjoint discs (see `contacts`): their contacts go through the law
 /// two at a time, one per lane ([`F64x2`]), two such pairs side by side, with the bits of
 /// one at a time.
@@ -260,12 +260,12 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             }
         }
     };
-    // One segment: its four quarters (whole blocks, so disjoint discs) side by side, one
+    // One colour row: its four quarters (whole blocks, so disjoint discs) side by side, one
     // per lane, each in its own order; as quarters run out, the rest two at a time and the
     // last alone.
-    let segment = |s: usize, virial: &mut ExactSum| {
-        // (An array, not a `Vec`: a gas's segments hold a contact or two, and an allocation
-        // per segment cost more than resolving them.)
+    let colour_row = |s: usize, virial: &mut ExactSum| {
+        // (An array, not a `Vec`: a gas's colour rows hold a contact or two, and an allocation
+        // per colour row cost more than resolving them.)
         let [[q0, q1], [q2, q3]] = contacts.quarters(s);
         let mut runs = [q0, q1, q2, q3];
         loop {
@@ -305,9 +305,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             .sum::<usize>();
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
             let mut virial = ExactSum::new();
-            for segments in &contacts.pieces()[piece] {
-                for s in segments.clone() {
-                    segment(s, &mut virial);
+            for colour_rows in &contacts.pieces()[piece] {
+                for s in colour_rows.clone() {
+                    colour_row(s, &mut virial);
                 }
             }
             virial

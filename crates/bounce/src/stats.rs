@@ -136,7 +136,7 @@ pub(crate) struct Measured {
 
 /// Kinetic energy and momentum of all discs, and with `extremes` the
 /// largest speed and the smallest radius (what adaptive substeps need; the minimum and
-/// maximum cost as much as the rest of the pass, so only then), summed in fixed chunks
+/// maximum cost as much as the rest of the sweep, so only then), summed in fixed chunks
 /// (thread-count independent).
 ///
 /// The total mass and the radius sum change only when discs or the configuration do: the
@@ -183,7 +183,7 @@ impl ChunkSums {
 
 /// [`measure`] with `extremes` fixed. Where every disc has radius `uniform_radius` and the
 /// mass follows the radius (the seed's model, or the area's), every disc weighs the same and
-/// the pass reads the velocities alone: a third less memory for the same bits (each disc's
+/// the sweep reads the velocities alone: a third less memory for the same bits (each disc's
 /// mass is the same value either way).
 fn measure_pass<const EXTREMES: bool>(
     p: &Particles,

@@ -135,7 +135,7 @@ impl Context<'_> {
     /// distance plus the margin of every pair tested, so each list is a superset and one
     /// constant serves a whole run), each pair in its band.
     #[inline(always)]
-    fn test<const PERIODIC: bool, const PAIRWISE: bool>(
+    fn list_near<const PERIODIC: bool, const PAIRWISE: bool>(
         &self,
         a: usize,
         others: Range<usize>,
@@ -145,17 +145,17 @@ impl Context<'_> {
         reserve(out, others.len());
         let none = others.end..others.end;
         // SAFETY: room reserved just now.
-        unsafe { self.test_in_room::<PERIODIC, PAIRWISE>(a, [others, none], cuts, out) };
+        unsafe { self.list_near_in_room::<PERIODIC, PAIRWISE>(a, [others, none], cuts, out) };
     }
 
-    /// [`Context::test`] over two runs (the second often empty) in one loop, where each band
+    /// [`Context::list_near`] over two runs (the second often empty) in one loop, where each band
     /// already has room for both: in a gas the runs are a disc or two each, of random
     /// lengths, so each loop's end is a mispredicted branch, and one loop has one end.
     ///
     /// # Safety
     /// Each band's spare capacity is at least the two runs' length together.
     #[inline(always)]
-    unsafe fn test_in_room<const PERIODIC: bool, const PAIRWISE: bool>(
+    unsafe fn list_near_in_room<const PERIODIC: bool, const PAIRWISE: bool>(
         &self,
         a: usize,
         [first, second]: [Range<usize>; 2],
@@ -251,7 +251,7 @@ impl Context<'_> {
                         reserve(out, per_disc);
                         // SAFETY: room for `per_disc` pairs, at least what the two runs hold.
                         unsafe {
-                            self.test_in_room::<PERIODIC, PAIRWISE>(
+                            self.list_near_in_room::<PERIODIC, PAIRWISE>(
                                 a,
                                 [a + 1..first_end, upper.clone()],
                                 &own_cuts,
@@ -290,9 +290,9 @@ impl Context<'_> {
                 let first_end = ranges[0].end;
                 for a in own.clone() {
                     // The own cell's later discs (and what follows it in memory), then the rest.
-                    self.test::<PERIODIC, PAIRWISE>(a, a + 1..first_end, &own_cuts, out);
+                    self.list_near::<PERIODIC, PAIRWISE>(a, a + 1..first_end, &own_cuts, out);
                     for range in &ranges[1..count] {
-                        self.test::<PERIODIC, PAIRWISE>(a, range.clone(), &own_cuts, out);
+                        self.list_near::<PERIODIC, PAIRWISE>(a, range.clone(), &own_cuts, out);
                     }
                     // Coarser levels: every cell under this disc's reach.
                     for level in coarser {
@@ -342,7 +342,7 @@ impl Context<'_> {
             for &(c0, c1) in &runs[..if wrapped { 2 } else { 1 }] {
                 let range = self.cell_start[grid.cell_index(c0, cy)] as usize
                     ..self.cell_start[grid.cell_index(c1, cy) + 1] as usize;
-                self.test::<PERIODIC, false>(a, range, &cuts, out);
+                self.list_near::<PERIODIC, false>(a, range, &cuts, out);
             }
         }
     }

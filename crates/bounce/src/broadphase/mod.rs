@@ -14,7 +14,7 @@
 //! and records where each disc was (the *reference* positions). As long as no disc has moved
 //! more than half the skin from its reference, every pair that can collide is still on the
 //! list (two discs closed in by at most one skin together), so a step only tests the listed
-//! candidates; the step's integration pass measures the largest displacement and a rebuild
+//! candidates; the step's integration sweep measures the largest displacement and a rebuild
 //! follows when it reaches the allowance. What collides, and in which order it is resolved,
 //! is decided afterwards from the current state alone (see `contacts`), so when the list is
 //! rebuilt changes nothing but speed.

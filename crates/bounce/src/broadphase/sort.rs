@@ -4,11 +4,11 @@
 //! The sort gives `order` (new index `k` holds old index `order[k]`) and `cell_start` (global
 //! cell `c` holds new indices `cell_start[c]..cell_start[c + 1]`). There is no fixed cell
 //! capacity: a cell holds however many discs fall in it. Storage is in cell order from the
-//! last rebuild except for discs that changed cell, so the passes walk memory in order.
+//! last rebuild except for discs that changed cell, so the sweeps walk memory in order.
 //!
 //! That near order also lets several threads place the discs: each run of storage counts
 //! and places its own discs, within the window of cells its keys span (about its own share
-//! of the grid), and the result is the serial sort's (see [`place_in_parts`]).
+//! of the grid), and the result is the serial sort's (see [`place_in_windows`]).
 
 use std::mem::MaybeUninit;
 use std::ops::Range;
@@ -82,7 +82,7 @@ pub(super) fn counting_sort(
             if want_windows { window_of(keys) } else { 0..0 }
         });
     }
-    if !place_in_parts(keys, &windows, counts, total_cells, cell_start, order, exec) {
+    if !place_in_windows(keys, &windows, counts, total_cells, cell_start, order, exec) {
         place(keys, total_cells, cell_start, order);
     }
 }
@@ -152,7 +152,7 @@ fn place(keys: &[u32], total_cells: usize, cell_start: &mut Vec<u32>, order: &mu
 /// having done nothing, when the sort runs on one thread, or the windows overlap so much
 /// that together they are more than a quarter larger than the grid, or `counts` is too
 /// short for them.
-fn place_in_parts(
+fn place_in_windows(
     keys: &[u32],
     chunk_windows: &[Range<usize>],
     counts: &mut [u32],
@@ -445,7 +445,7 @@ mod tests {
                 let mut counts = vec![0; threads * cells];
                 let (mut start, mut order) = (vec![9; 3], vec![9; 5]);
                 let windows: Vec<_> = keys.chunks(CHUNK).map(window_of).collect();
-                let placed = place_in_parts(
+                let placed = place_in_windows(
                     keys,
                     &windows,
                     &mut counts,
@@ -462,7 +462,7 @@ mod tests {
                 // Too little scratch for the windows: the serial sort's turn (one cell's
                 // windows fit in anything).
                 let mut short = vec![0; 10];
-                let fits = place_in_parts(
+                let fits = place_in_windows(
                     keys, &windows, &mut short, cells, &mut start, &mut order, &exec,
                 );
                 assert_eq!(fits, std::ptr::eq(keys, &one));
@@ -474,7 +474,7 @@ mod tests {
         let serial = Executor::default();
         assert_eq!(scratch_for_counts(n, cells, &serial), 0);
         let windows: Vec<_> = near.chunks(CHUNK).map(window_of).collect();
-        assert!(!place_in_parts(
+        assert!(!place_in_windows(
             &near,
             &windows,
             &mut counts,

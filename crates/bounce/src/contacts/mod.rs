@@ -21,14 +21,14 @@
 //! contacts are therefore resolved in a *wave* order that sweeps the grid once instead of
 //! four times (the contacts of colours 0 and 1 in block row `2m`, then those of colours 2 and
 //! 3 in block row `2m − 1`, then `2m + 2`, ...), sorted by a key that says so ([`OrderGrid::key`]).
-//! The sweep is cut into bands of block rows resolved in parallel, each band but for its
+//! The sweep is cut into stripes of block rows resolved in parallel, each stripe but for its
 //! first odd row, which all go after (see `split`). The 1% margin on the cell side absorbs
 //! rounding in the cell coordinates, whose magnitude is capped at 2^30 cells.
 
+mod colour_rows;
 mod detect;
 mod order;
 mod presort;
-mod segments;
 
 use std::ops::Range;
 
@@ -43,7 +43,7 @@ use order::{BlockBounds, column_of, row_parity_of, wave_of};
 pub(crate) use order::{OrderGrid, ordered_bits};
 pub use order::{order_block_start, order_cell_width};
 use presort::{
-    DENSE_SHARE, DETECTIONS_BEFORE_PRESORT, LASTING_LISTING_USES, Presorted, place_in_parts,
+    DENSE_SHARE, DETECTIONS_BEFORE_PRESORT, LASTING_LISTING_USES, Presorted, place_by_bucket,
 };
 
 /// One colliding pair: storage indices `a` (the lower id) and `b`, and its sort key.
@@ -143,11 +143,11 @@ pub(crate) struct Contacts {
     list: Vec<Contact>,
     /// Runs of `list` of one colour in one block row: whole blocks that touch disjoint
     /// discs.
-    segments: Vec<Range<usize>>,
+    colour_rows: Vec<Range<usize>>,
     /// Work that may be resolved in parallel with the other pieces of its phase: ranges of
-    /// `segments`, resolved in order.
+    /// `colour_rows`, resolved in order.
     pieces: Vec<[Range<usize>; 2]>,
-    /// Ranges of `pieces`, resolved one after the other: the bands, then their first odd
+    /// Ranges of `pieces`, resolved one after the other: the stripes, then their first odd
     /// rows.
     phases: Vec<Range<usize>>,
     /// Scratch of the bucket sort: contacts per order block, then block starts.
@@ -342,9 +342,9 @@ impl Contacts {
     /// its detection. So the contacts are counted into their order blocks (colour-major,
     /// then row, then column: the key's order), placed straight from the found lists, and
     /// only each block's few contacts are sorted by ids. Where blocks outnumber the contacts
-    /// by more than four to one (a dilute gas) the contacts are counted into their segments
-    /// (one colour of one block row) instead and each segment sorted by key; where even
-    /// segments do, a comparison sort does it all.
+    /// by more than four to one (a dilute gas) the contacts are counted into their colour rows
+    /// (one colour of one block row) instead and each colour row sorted by key; where even
+    /// colour rows do, a comparison sort does it all.
     ///
     /// Within a block the order is `within` (the id pair; with more than one solver pass
     /// under gravity, the contact's height first, lowest first: each pass then carries the
@@ -365,23 +365,24 @@ impl Contacts {
         let [column_min, wave_min] = [bounds.columns[0] / 2, bounds.waves[0]];
         let width = bounds.columns[1] / 2 - column_min + 1;
         let waves = (bounds.waves[1] - wave_min) / 2 + 1;
-        let segment = move |c: &Contact| -> u64 {
+        let colour_row = move |c: &Contact| -> u64 {
             (wave_of(c.key) - wave_min) / 2 * 4 + row_parity_of(c.key) * 2 + (column_of(c.key) & 1)
         };
         // Counting costs a pass over the buckets as well as the contacts: one bucket per
-        // block where there are few blocks per contact (a pile); else one per segment (one
-        // colour of one block row: the 1M gas has 22,000 contacts in 3,200 segments, against
+        // block where there are few blocks per contact (a pile); else one per colour row (one
+        // colour of one block row: the 1M gas has 22,000 contacts in 3,200 colour rows, against
         // 1.3 million blocks), each then sorted by key; else a comparison sort.
         let few = |buckets: u64| buckets <= 4 * total as u64 + 1024;
         let blocks = waves.saturating_mul(4).saturating_mul(width);
         if few(blocks) {
             // Buckets in key order: wave, row parity, column parity, column.
-            let block =
-                |c: &Contact| (segment(c) * width + (column_of(c.key) / 2 - column_min)) as usize;
+            let block = |c: &Contact| {
+                (colour_row(c) * width + (column_of(c.key) / 2 - column_min)) as usize
+            };
             self.bucket_sort(blocks as usize, block, &within, ctx);
         } else if few(waves.saturating_mul(4)) {
             let by_key = |c: &Contact| (c.key, within(c));
-            self.bucket_sort(waves as usize * 4, |c| segment(c) as usize, &by_key, ctx);
+            self.bucket_sort(waves as usize * 4, |c| colour_row(c) as usize, &by_key, ctx);
         } else {
             for found in &self.found {
                 self.list.extend_from_slice(found);
@@ -411,8 +412,8 @@ impl Contacts {
         let parts = ctx.exec.threads();
         if parts > 1 && ctx.exec.is_parallel(total) && buckets <= total {
             // In parallel (a pile's presort: millions of candidates), each of `parts` runs
-            // of the found lists counting into its own buckets: see `place_in_parts`.
-            place_in_parts(&self.found, parts, buckets, &bucket, starts, spare, ctx);
+            // of the found lists counting into its own buckets: see `place_by_bucket`.
+            place_by_bucket(&self.found, parts, buckets, &bucket, starts, spare, ctx);
         } else {
             for c in self.found.iter().flatten() {
                 starts[bucket(c) + 1] += 1;
@@ -492,7 +493,7 @@ impl Contacts {
         &self.phases
     }
 
-    /// The segments of each piece, resolved in order (two ranges: its band, then the rest).
+    /// The colour rows of each piece, resolved in order (two ranges: its band, then the rest).
     pub(crate) fn pieces(&self) -> &[[Range<usize>; 2]] {
         &self.pieces
     }
@@ -563,7 +564,7 @@ mod tests {
         let ctx = StepContext::new(&config, 0.1, exec, None);
         let mut next = random(12345);
         // Blocks over [0, span_x) × [0, span_y): few per contact (buckets per block), many
-        // columns in few rows (buckets per segment), many of both (the comparison sort).
+        // columns in few rows (buckets per colour row), many of both (the comparison sort).
         for (count, [span_x, span_y]) in [
             (5000u64, [40u64, 40]),
             (3000, [1 << 30, 1 << 30]),

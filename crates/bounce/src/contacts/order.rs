@@ -46,8 +46,8 @@ pub(super) fn block_key(column: u64, row: u64) -> u64 {
     ((row + parity) << 33) | (parity << 32) | ((column & 1) << 31) | column
 }
 
-/// The segment of a key: its wave, row parity and colour.
-pub(super) fn segment_of(key: u64) -> u64 {
+/// The colour row of a key: its wave, row parity and colour.
+pub(super) fn colour_row_of(key: u64) -> u64 {
     key >> 31
 }
 

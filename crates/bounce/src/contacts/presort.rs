@@ -252,7 +252,7 @@ impl Contacts {
 /// places its own contacts into `spare` (every slot of which is written). Afterwards
 /// `starts[b]` holds the end of bucket `b`, as after the serial placement, and every bucket
 /// holds the same contacts in the same order (the runs' in turn, each in its lists' order).
-pub(super) fn place_in_parts(
+pub(super) fn place_by_bucket(
     found: &[Vec<Contact>],
     parts: usize,
     buckets: usize,
@@ -372,7 +372,7 @@ pub(super) fn merge_sorted(
 
 /// The end of the run of `items` from `from` on that `holds` (which holds for a prefix of
 /// `items[from..]`): the places 1, 2, 4, ... ahead are probed, then the last step bisected.
-/// A pile's segments are a few hundred contacts of a list of a hundred thousand: bisecting
+/// A pile's colour rows are a few hundred contacts of a list of a hundred thousand: bisecting
 /// the whole rest for each missed the cache at nearly every probe, while these stay near
 /// `from`, in order.
 pub(super) fn prefix_end<T>(items: &[T], from: usize, holds: impl Fn(&T) -> bool) -> usize {
