@@ -14,7 +14,7 @@
 //! then validates every invariant of the world (see `bounce::World`'s serde) before anything
 //! is allocated by a value read from the file.
 
-use bounce::{Config, World};
+use bounce::{Config, SavedWorld, World};
 use serde::{Deserialize, Serialize};
 
 const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
@@ -57,8 +57,46 @@ struct Body<'a> {
 
 #[derive(Deserialize)]
 struct OwnedBody {
-    world: World,
+    world: SavedWorld,
     run: Option<RunState>,
+}
+
+impl RunState {
+    /// What is wrong with it, if anything, for a world with `obstacles` obstacles.
+    fn problem(&self, obstacles: usize) -> Option<String> {
+        let sane = |v: f64| v.is_finite() && v >= 0.0;
+        if !sane(self.wall_impulse) {
+            Some(format!(
+                "wall_impulse = {} must be finite and >= 0",
+                self.wall_impulse
+            ))
+        } else if !sane(self.max_overlap) {
+            Some(format!(
+                "max_overlap = {} must be finite and >= 0",
+                self.max_overlap
+            ))
+        } else if !sane(self.elapsed) {
+            Some(format!(
+                "elapsed = {} must be finite and >= 0",
+                self.elapsed
+            ))
+        } else if !self.obstacle_impulse.is_empty() && self.obstacle_impulse.len() != obstacles {
+            Some(format!(
+                "{} obstacle impulses for {obstacles} obstacles",
+                self.obstacle_impulse.len()
+            ))
+        } else {
+            self.obstacle_impulse
+                .iter()
+                .position(|j| !(j[0].is_finite() && j[1].is_finite()))
+                .map(|k| {
+                    format!(
+                        "obstacle {k}: impulse {:?} is not finite",
+                        self.obstacle_impulse[k]
+                    )
+                })
+        }
+    }
 }
 
 /// FNV-1a, 64 bits.
@@ -134,15 +172,30 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<Checkpoint, String> {
             "{name}: corrupt checkpoint: the checksum does not match its contents"
         ));
     }
-    let body: OwnedBody =
-        postcard::from_bytes(payload).map_err(|e| format!("{name}: corrupt checkpoint: {e}"))?;
-    if fingerprint(&body.world) != u64_of(fingerprint_read) {
+    let (body, after): (OwnedBody, &[u8]) = postcard::take_from_bytes(payload)
+        .map_err(|e| format!("{name}: corrupt checkpoint: cannot read its contents ({e})"))?;
+    if !after.is_empty() {
+        return Err(format!(
+            "{name}: corrupt checkpoint: {} bytes after its contents",
+            after.len()
+        ));
+    }
+    // Validated like a scenario's discs: the error names the disc and the field.
+    let world = World::try_from(body.world).map_err(|e| format!("{name}: {e}"))?;
+    if fingerprint(&world) != u64_of(fingerprint_read) {
         return Err(format!(
             "{name}: corrupt checkpoint: its fingerprint does not match its configuration"
         ));
     }
+    if let Some(problem) = body
+        .run
+        .as_ref()
+        .and_then(|run| run.problem(world.config().obstacles.len()))
+    {
+        return Err(format!("{name}: the run's totals: {problem}"));
+    }
     Ok(Checkpoint {
-        world: body.world,
+        world,
         run: body.run,
     })
 }
@@ -228,9 +281,17 @@ pub fn load(path: &std::path::Path) -> Result<Checkpoint, String> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use bounce::{Boundary, Particle};
+
+    /// `world` as a forged checkpoint says it is at `time`.
+    pub(crate) fn with_time(world: &World, time: f64) -> World {
+        let bytes = encode(world, None).unwrap();
+        decode(&forge(&bytes, world.time(), time), "c")
+            .unwrap()
+            .world
+    }
 
     fn small_world() -> World {
         let mut world = World::new(Config {
@@ -256,7 +317,7 @@ mod tests {
             wall_impulse: 0.25,
             max_overlap: 0.0,
             elapsed: 0.5,
-            obstacle_impulse: vec![[1.0, -2.0]],
+            obstacle_impulse: Vec::new(),
         };
         let bytes = encode(&world, Some(&run)).unwrap();
         let back = decode(&bytes, "c").unwrap();
@@ -275,6 +336,115 @@ mod tests {
         let mut other = bytes.clone();
         other[18] = 9;
         assert!(decode(&other, "c").unwrap_err().contains("version 9"));
+    }
+
+    /// Three discs of distinct radii, masses and velocities after two steps: every value
+    /// forged below has bits found once in the payload.
+    fn forgeable() -> World {
+        let mut world = World::new(Config {
+            boundary: Boundary::walls([0.0, 0.0], [40.0, 40.0]),
+            ..Config::default()
+        })
+        .unwrap();
+        for k in 0..3 {
+            let r = 0.5 + 0.125 * k as f64;
+            let particle = Particle {
+                mass: Some(2.0 + 1.5 * k as f64),
+                ..Particle::new([3.0 + 7.0 * k as f64, 11.0], [1.25 + k as f64, 0.75], r)
+            };
+            world.add_particle(particle).unwrap();
+        }
+        world.step(0.0625).unwrap();
+        world.step(0.0625).unwrap();
+        world
+    }
+
+    /// `bytes` with the one place holding `from`'s bits in the payload set to `to`, and the
+    /// checksum made to match: an edit a checksum does not catch.
+    fn forge(bytes: &[u8], from: f64, to: f64) -> Vec<u8> {
+        let (from, to) = (from.to_le_bytes(), to.to_le_bytes());
+        let places: Vec<usize> = (HEADER..=bytes.len() - 8)
+            .filter(|&k| bytes[k..k + 8] == from)
+            .collect();
+        assert_eq!(
+            places.len(),
+            1,
+            "the forged value is not unique in the payload"
+        );
+        let mut out = bytes.to_vec();
+        out[places[0]..places[0] + 8].copy_from_slice(&to);
+        reseal(&mut out);
+        out
+    }
+
+    /// Recomputes the header's payload length and checksum.
+    fn reseal(bytes: &mut [u8]) {
+        let payload_len = (bytes.len() - HEADER) as u64;
+        let checksum = fnv1a(&bytes[HEADER..], FNV_START);
+        bytes[22..30].copy_from_slice(&payload_len.to_le_bytes());
+        bytes[30..38].copy_from_slice(&checksum.to_le_bytes());
+    }
+
+    #[test]
+    fn forged_checkpoints_are_refused_naming_the_disc_and_the_field() {
+        let world = forgeable();
+        let p = world.particles();
+        let bytes = encode(&world, Some(&RunState::default())).unwrap();
+        let (x, vx, radius, mass) = (p.x()[1], p.vx()[1], p.radius()[1], p.per_particle_mass()[1]);
+        let id = p.ids()[1].0;
+        let cases: Vec<(f64, f64, String)> = vec![
+            (x, 1e6, format!("c: disc {id}: centre [1000000.0")),
+            (x, 1e300, format!("c: disc {id}: centre [1e300")),
+            (x, -0.5, "outside the box [0.0, 0.0]..[40.0, 40.0]".into()),
+            (vx, f64::NAN, format!("c: disc {id}: velocity [NaN")),
+            (vx, 1e200, "gives a kinetic energy beyond f64".into()),
+            (
+                radius,
+                0.0,
+                format!("c: disc {id}: radius 0 must be finite and > 0"),
+            ),
+            (radius, 25.0, "is too large for the box".into()),
+            (
+                mass,
+                -1.0,
+                format!("c: disc {id}: mass -1 must be finite and > 0"),
+            ),
+            (world.time(), -5.0, "time -5 after 2 steps".into()),
+            (world.time(), 1e308, "".into()),
+            (world.time(), f64::INFINITY, "time inf after 2 steps".into()),
+        ];
+        for (from, to, expected) in cases {
+            let error = decode(&forge(&bytes, from, to), "c").err();
+            let Some(error) = error else {
+                // A time far off the step count is the session's to refuse (its dt).
+                assert_eq!(to, 1e308, "{from} -> {to} was accepted");
+                continue;
+            };
+            assert!(error.contains(&expected), "{from} -> {to}: {error}");
+            assert!(!error.contains("Serde"), "{error}");
+        }
+        // The run's totals.
+        let run = RunState {
+            wall_impulse: 0.375,
+            ..RunState::default()
+        };
+        let with_run = encode(&world, Some(&run)).unwrap();
+        let error = decode(&forge(&with_run, 0.375, f64::NAN), "c").unwrap_err();
+        assert!(
+            error.contains("c: the run's totals: wall_impulse = NaN"),
+            "{error}"
+        );
+        // Bytes after the contents, with the header made to match.
+        let mut appended = bytes.clone();
+        appended.extend_from_slice(&[0, 1, 2]);
+        reseal(&mut appended);
+        let error = decode(&appended, "c").unwrap_err();
+        assert!(error.contains("3 bytes after its contents"), "{error}");
+        // The forgeries are refused for what they are: the untouched bytes decode.
+        assert_eq!(
+            decode(&bytes, "c").unwrap().world.state_hash(),
+            world.state_hash()
+        );
     }
 
     #[test]

@@ -196,6 +196,16 @@ impl Session {
                 world.len()
             ));
         }
+        // The clock: the scenario's steps of `dt` (summed step by step, so within rounding).
+        let expected = world.step_count() as f64 * self.dt;
+        if (world.time() - expected).abs() > 1e-6 * expected.max(self.dt) {
+            differences.push(format!(
+                "time: {expected} ({} steps of dt {}) vs {}",
+                world.step_count(),
+                self.dt,
+                world.time()
+            ));
+        }
         if !differences.is_empty() {
             return Err(format!(
                 "{checkpoint} is not a checkpoint of {} (scenario vs checkpoint): {}",
@@ -299,6 +309,28 @@ mod tests {
             "{e}"
         );
         assert!(e.contains("gravity: [0.0, 0.0] vs [0.0, -"), "{e}");
+    }
+
+    #[test]
+    fn resuming_needs_the_clock_of_the_steps_taken() {
+        let mut s = Session::builtin("gas").unwrap();
+        let dt = s.dt;
+        s.run_until(3, |_, _| Ok::<_, StepError>(ControlFlow::Continue(())))
+            .unwrap();
+        let bytes = crate::checkpoint::encode(&s.world, None).unwrap();
+        let good = crate::checkpoint::decode(&bytes, "c.bin").unwrap().world;
+        let mut fresh = Session::builtin("gas").unwrap();
+        fresh.resume(good, "c.bin").unwrap();
+        assert_eq!(fresh.world.step_count(), 3);
+        // The same state said to be two steps in (a step counter moved back), or far on.
+        for steps in [2.0, 1e300 / dt] {
+            let world = crate::checkpoint::tests::with_time(&s.world, steps * dt);
+            let e = Session::builtin("gas")
+                .unwrap()
+                .resume(world, "c.bin")
+                .unwrap_err();
+            assert!(e.contains("c.bin") && e.contains("time: "), "{e}");
+        }
     }
 }
 

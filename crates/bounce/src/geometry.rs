@@ -144,6 +144,22 @@ impl Geometry {
         self.fits_size(r, law)
     }
 
+    /// Checks that a saved centre is where a step can leave one: inside a walled box (the
+    /// walls hold a disc a radius inside them), within `slack` of a periodic box (a push may
+    /// leave a disc past the edge until the next integration wraps it).
+    pub(crate) fn holds(&self, position: [f64; 2], slack: f64) -> Result<(), ParticleError> {
+        let Some((min, max)) = self.bounds() else {
+            return Ok(());
+        };
+        let slack = if self.is_periodic() { slack } else { 0.0 };
+        let inside = (0..2).all(|k| position[k] >= min[k] - slack && position[k] <= max[k] + slack);
+        if inside {
+            Ok(())
+        } else {
+            Err(ParticleError::OutsideBox { position, min, max })
+        }
+    }
+
     /// Checks that a disc of radius `r` fits the box (walls: its diameter fits between them;
     /// periodic: its interaction diameter is at most half a side, so only one image of a
     /// neighbour is within reach).
@@ -239,6 +255,12 @@ impl Particle {
     pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
         self.validate_values()?;
         let law = Law::new(config);
+        self.check_energy(&law)?;
+        Geometry::new(config).admit(self.position, self.radius, &law)
+    }
+
+    /// Checks that the kinetic energy under the law's mass model is finite.
+    pub(crate) fn check_energy(&self, law: &Law) -> Result<(), ParticleError> {
         let mass = law.mass(
             self.radius,
             self.mass
@@ -251,7 +273,7 @@ impl Particle {
                 mass,
             });
         }
-        Geometry::new(config).admit(self.position, self.radius, &law)
+        Ok(())
     }
 }
 

@@ -69,4 +69,4 @@ pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};
 pub use sum::{ExactSum, StepSums, WallSums};
-pub use world::{StepError, World, WorldError};
+pub use world::{SavedWorld, StepError, World, WorldError};

@@ -102,7 +102,8 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 stats.pairs += contacts.len();
                 stats.max_overlap = stats.max_overlap.max(max_overlap);
             }
-            sums.virial.merge(&resolve(p, &contacts, &rules));
+            sums.virial
+                .merge(&resolve(p, &contacts, &rules, &rules.law.for_pass(pass)));
             if has_obstacles {
                 let impacts = meet_obstacles(p, trail.as_deref_mut(), &shapes, states, &rules);
                 obstacles::take_impacts(impacts, &config, states, &mut met);
@@ -320,7 +321,7 @@ fn for_each_near_pair(
 /// The seed's steps 1–7 for each contact in order, on the current state (a disc pushed by
 /// one pair is seen at its new place by the next); walls hold after each push. Returns the
 /// collision virial `Σ r_ab · Δp_ab`, summed exactly.
-fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules) -> ExactSum {
+fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) -> ExactSum {
     let min_image = rules.geometry.min_image();
     let mut virial = ExactSum::new();
     for &Contact { a, b, .. } in contacts {
@@ -331,7 +332,7 @@ fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules) -> ExactSum {
             mass: rules.mass(p, i),
         };
         let (one, two) = (body(a), body(b));
-        let out = rules.law.resolve(diff, &one, &two);
+        let out = law.resolve(diff, &one, &two);
         // The pair's impulse: the antisymmetric part of the two momentum changes.
         let impulse = [0, 1].map(|k| {
             0.5 * (one.mass * (out.v1[k] - one.velocity[k])

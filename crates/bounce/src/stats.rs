@@ -44,6 +44,29 @@ pub struct StepStats {
     pub removed: usize,
 }
 
+impl StepStats {
+    /// The first measured value that is not finite, by name (`None` when all are).
+    pub(crate) fn first_non_finite(&self) -> Option<&'static str> {
+        let w = &self.wall_impulse;
+        [
+            ("kinetic_energy", self.kinetic_energy),
+            ("momentum", self.momentum[0]),
+            ("momentum", self.momentum[1]),
+            ("max_overlap", self.max_overlap),
+            ("virial", self.virial),
+            ("wall_impulse", w.left),
+            ("wall_impulse", w.right),
+            ("wall_impulse", w.bottom),
+            ("wall_impulse", w.top),
+            ("pressure", self.pressure.unwrap_or(0.0)),
+            ("obstacle_work", self.obstacle_work),
+        ]
+        .into_iter()
+        .find(|(_, v)| !v.is_finite())
+        .map(|(name, _)| name)
+    }
+}
+
 /// Wall-clock seconds spent in each stage of the last step, summed over its substeps.
 /// All zero on `wasm32`, which has no clock in `std`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

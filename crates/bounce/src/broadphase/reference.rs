@@ -125,13 +125,23 @@ impl Reference {
             ));
         }
         let finite = self.x.iter().chain(&self.y).all(|v| v.is_finite());
+        // With positions, the skin is what the list was listed with: positive.
+        let skin_ok = if self.x.is_empty() {
+            self.skin >= 0.0
+        } else {
+            self.skin > 0.0
+        };
         if !(finite
             && self.skin.is_finite()
-            && self.skin >= 0.0
+            && skin_ok
             && self.slack.is_finite()
             && self.slack >= 0.0)
         {
-            return Err("reference positions, skin or slack are not finite and >= 0".into());
+            return Err(format!(
+                "reference positions, skin {} or slack {} are not finite and >= 0 (the skin > 0 \
+                 with positions)",
+                self.skin, self.slack
+            ));
         }
         Ok(())
     }
@@ -211,6 +221,30 @@ mod tests {
             .covers(0.0)
         );
         assert!(r.positions(1).is_some() && r.positions(2).is_none());
+    }
+
+    #[test]
+    fn a_saved_reference_has_a_skin_where_it_has_positions() {
+        let r = Reference {
+            skin: 1.0,
+            slack: 0.0,
+            x: vec![0.0],
+            y: vec![0.0],
+        };
+        assert!(r.check(1).is_ok());
+        assert!(r.check(2).is_err());
+        let no_skin = Reference {
+            skin: 0.0,
+            ..r.clone()
+        };
+        assert!(no_skin.check(1).unwrap_err().contains("skin 0"));
+        let none = Reference {
+            skin: 0.0,
+            x: Vec::new(),
+            y: Vec::new(),
+            ..r
+        };
+        assert!(none.check(5).is_ok());
     }
 
     #[test]

@@ -45,7 +45,9 @@ pub struct Config {
     /// At most [`MAX_SUBSTEPS`].
     pub substeps: u32,
     /// Passes of detection and resolution per substep. Default `1`, the seed's single pass.
-    /// With more, each pass ends with the walls as contacts (a disc touching a wall and
+    /// A later pass changes the velocities only of pairs still approaching, whatever
+    /// [`VelocityUpdate`] says (see [`crate::law::Law::for_pass`]): a pair collides once,
+    /// however many passes. With more than one, each pass ends with the walls as contacts (a disc touching a wall and
     /// moving into it bounces with the wall restitution), so a stack (a pile under gravity)
     /// passes its shared velocity down to the floor within a substep: a pile under the
     /// momentum-conserving model stops compressing. Under gravity the contacts of each

@@ -104,6 +104,25 @@ impl Law {
         self.mass_model.mass(radius, per_particle)
     }
 
+    /// The law solver pass `pass` (from 0) applies. The first is this law; a later one
+    /// (`solver_iterations > 1`) updates the velocities only of pairs still approaching,
+    /// whatever `velocity_update` says. The first pass leaves a pair it pushed apart at
+    /// exactly its collision distance, which `<=` detects again: under the seed's update of
+    /// every detected pair, a later pass would send two discs that had just met head on back
+    /// into each other (they would lock), and apply the restitution once a pass. The push is
+    /// the same in every pass (only while the pair overlaps), and a single pass is the
+    /// seed's.
+    pub fn for_pass(&self, pass: u32) -> Law {
+        if pass == 0 {
+            *self
+        } else {
+            Law {
+                velocity_update: VelocityUpdate::ApproachingOnly,
+                ..*self
+            }
+        }
+    }
+
     /// The seed's steps 1–7 for one detected pair: see [`resolve_pair`].
     #[inline(always)]
     pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {

@@ -28,6 +28,8 @@ mod part;
 
 mod state;
 mod step;
+
+pub use state::SavedWorld;
 #[cfg(test)]
 mod tests;
 
@@ -136,7 +138,7 @@ pub enum WorldError {
     #[error(transparent)]
     Config(#[from] ConfigError),
     /// A particle does not fit the configuration.
-    #[error("particle {id:?}: {error}")]
+    #[error("disc {}: {error}", id.0)]
     Particle {
         /// The particle's id.
         id: ParticleId,

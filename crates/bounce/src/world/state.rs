@@ -13,6 +13,22 @@ use crate::law::Law;
 use crate::particles::{Particle, Particles};
 use crate::stats::StepStats;
 
+/// A world as saved, not yet checked: decode saved data into this, then `World::try_from`
+/// it, whose error names what is wrong (the disc and the field). Deserializing a [`World`]
+/// directly checks the same, but formats such as postcard drop the message of a custom
+/// error.
+#[derive(Deserialize)]
+#[serde(transparent)]
+pub struct SavedWorld(WorldState);
+
+impl TryFrom<SavedWorld> for World {
+    type Error = WorldError;
+
+    fn try_from(saved: SavedWorld) -> Result<World, WorldError> {
+        World::try_from(saved.0)
+    }
+}
+
 /// The serialized form of a [`World`], validated on the way in.
 #[derive(Deserialize)]
 pub(super) struct WorldState {
@@ -82,10 +98,17 @@ impl TryFrom<WorldState> for World {
                 state.next_id
             )));
         }
+        // Centres in a walled box stay inside it (the walls hold a disc a radius inside);
+        // in a periodic box a push may leave one a little past the edge until the next
+        // integration wraps it: at most the largest collision distance.
+        let max_radius = p.radius.iter().fold(0.0f64, |m, &r| m.max(r));
+        let slack = if geometry.is_periodic() {
+            law.interaction_diameter(max_radius)
+        } else {
+            0.0
+        };
         for i in 0..n {
             let id = p.id[i];
-            // Positions may sit slightly outside the walls after an overlap push, so a loaded
-            // state is checked for finite values and sizes, not for the box.
             let particle = Particle {
                 position: [p.x[i], p.y[i]],
                 velocity: [p.vx[i], p.vy[i]],
@@ -95,12 +118,21 @@ impl TryFrom<WorldState> for World {
             particle
                 .validate_values()
                 .and_then(|()| geometry.fits_size(particle.radius, &law))
+                .and_then(|()| geometry.holds(particle.position, slack))
+                .and_then(|()| particle.check_energy(&law))
                 .map_err(|error| WorldError::Particle { id, error })?;
         }
-        if !(state.time.is_finite()) {
+        // Every step advances the clock by a finite `dt > 0`.
+        if !(state.time.is_finite() && state.time >= 0.0 && (state.time > 0.0) == (state.steps > 0))
+        {
             return Err(WorldError::Inconsistent(format!(
-                "time {} is not finite",
-                state.time
+                "time {} after {} steps (a step advances the time by dt > 0)",
+                state.time, state.steps
+            )));
+        }
+        if let Some(field) = state.stats.first_non_finite() {
+            return Err(WorldError::Inconsistent(format!(
+                "the last step's {field} is not finite"
             )));
         }
         state.reference.check(n).map_err(WorldError::Inconsistent)?;
@@ -113,14 +145,20 @@ impl TryFrom<WorldState> for World {
             )));
         }
         let finite = |v: &[f64; 2]| v.iter().all(|x| x.is_finite());
-        if !state
+        if let Some(k) = state
             .obstacle_states
             .iter()
-            .all(|s| finite(&s.offset) && finite(&s.velocity))
+            .position(|s| !(finite(&s.offset) && finite(&s.velocity)))
         {
-            return Err(WorldError::Inconsistent(
-                "an obstacle's offset or velocity is not finite".into(),
-            ));
+            return Err(WorldError::Inconsistent(format!(
+                "obstacle {k}: offset or velocity is not finite"
+            )));
+        }
+        if let Some(k) = state.obstacle_impulses.iter().position(|j| !finite(j)) {
+            return Err(WorldError::Inconsistent(format!(
+                "obstacle {k}: impulse {:?} is not finite",
+                state.obstacle_impulses[k]
+            )));
         }
         world.obstacle_states = state.obstacle_states;
         world.obstacle_impulses = state.obstacle_impulses;
@@ -136,6 +174,18 @@ impl TryFrom<WorldState> for World {
                 "{} emitters but {} emitter states",
                 world.config.emitters.len(),
                 state.emitter_states.len()
+            )));
+        }
+        if let Some(k) = state
+            .emitter_states
+            .iter()
+            .position(|s| !(s.due.is_finite() && s.due >= 0.0 && s.emitted <= s.attempts))
+        {
+            let s = &state.emitter_states[k];
+            return Err(WorldError::Inconsistent(format!(
+                "emitter {k}: {} due, {} emitted in {} attempts (due must be finite and >= 0, \
+                 emitted at most the attempts)",
+                s.due, s.emitted, s.attempts
             )));
         }
         world.emitter_states = state.emitter_states;

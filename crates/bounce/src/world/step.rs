@@ -43,7 +43,7 @@ impl World {
             };
             for pass in 0..stages.config.solver_iterations {
                 stages.detect(pass, rebuilt, &moved, &mut done);
-                stages.resolve_pairs(&mut done);
+                stages.resolve_pairs(pass, &mut done);
                 stages.meet_obstacles(&mut done);
                 stages.hold_walls(&mut done);
             }
@@ -289,10 +289,14 @@ impl<'w> Stages<'w> {
         done.profile.pairs += done.clock.lap();
     }
 
-    /// The law on each contact, in canonical order.
-    fn resolve_pairs(&mut self, done: &mut Substepped) {
+    /// The law of this pass on each contact, in canonical order.
+    fn resolve_pairs(&mut self, pass: u32, done: &mut Substepped) {
         let uniform = self.broadphase.uniform_radius();
-        let virial = resolve_all(self.contacts, self.particles, &self.ctx, uniform);
+        let ctx = StepContext {
+            law: self.ctx.law.for_pass(pass),
+            ..self.ctx
+        };
+        let virial = resolve_all(self.contacts, self.particles, &ctx, uniform);
         done.sums.virial.merge(&virial);
         done.profile.resolve += done.clock.lap();
     }
