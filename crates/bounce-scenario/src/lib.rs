@@ -585,6 +585,29 @@ fn line_at(source: &str, at: usize) -> usize {
     source[..at.min(source.len())].matches('\n').count() + 1
 }
 
+/// Where each line of a source starts, for the lines of many offsets: [`line_at`] counts the
+/// newlines before each one, which for a table per disc made a file of `N` discs take
+/// `O(N²)`.
+struct LineIndex(Vec<usize>);
+
+impl LineIndex {
+    fn new(source: &str) -> LineIndex {
+        LineIndex(
+            source
+                .bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(k, _)| k)
+                .collect(),
+        )
+    }
+
+    /// The 1-based line of byte offset `at`, as [`line_at`] gives it.
+    fn at(&self, at: usize) -> usize {
+        self.0.partition_point(|&newline| newline < at) + 1
+    }
+}
+
 /// `table.key` for a `key = value` line (1-based), for messages that only know the line.
 fn field_at(source: &str, line: usize) -> Option<String> {
     let mut table = String::new();
@@ -757,6 +780,7 @@ impl Scenario {
 
     /// Every problem that can be found without placing particles.
     fn problems(&self, source: &str) -> Vec<Problem> {
+        let lines = LineIndex::new(source);
         let mut out = Vec::new();
         let mut at = |line: Option<usize>, message: String| out.push(Problem { line, message });
 
@@ -772,13 +796,13 @@ impl Scenario {
             }
         }
         for (k, o) in self.obstacle.iter().enumerate() {
-            let line = Some(line_at(source, o.span().start));
+            let line = Some(lines.at(o.span().start));
             for message in o.get_ref().problems() {
                 at(line, format!("obstacle #{}: {message}", k + 1));
             }
         }
         for (k, e) in self.emitter.iter().enumerate() {
-            let line = Some(line_at(source, e.span().start));
+            let line = Some(lines.at(e.span().start));
             colour_problem(
                 &e.get_ref().color,
                 line,
@@ -814,9 +838,19 @@ impl Scenario {
                 line_of_key(source, "time", "dt"),
                 format!("time.dt = {} must be finite and > 0", self.time.dt),
             );
+        } else if !(self.time.dt * self.time.steps as f64 * 2.0).is_finite() {
+            // (Twice: room for the clock's rounding and a run continued as long again.)
+            at(
+                line_of_key(source, "time", "dt"),
+                format!(
+                    "time.dt = {:?} for {} steps overflows the clock (the run's time must be \
+                     finite)",
+                    self.time.dt, self.time.steps
+                ),
+            );
         }
         for (k, g) in self.gas.iter().enumerate() {
-            let line = Some(line_at(source, g.span().start));
+            let line = Some(lines.at(g.span().start));
             let gas = g.get_ref();
             let set = [gas.speed, gas.temperature, gas.uniform]
                 .iter()
@@ -845,7 +879,7 @@ impl Scenario {
             colour_problem(&gas.color, line, &format!("gas #{}", k + 1), &mut at);
         }
         for (k, l) in self.lattice.iter().enumerate() {
-            let line = Some(line_at(source, l.span().start));
+            let line = Some(lines.at(l.span().start));
             let lat = l.get_ref();
             if !(lat.radius.is_finite() && lat.radius > 0.0) {
                 at(
@@ -860,7 +894,7 @@ impl Scenario {
             colour_problem(&lat.color, line, &format!("lattice #{}", k + 1), &mut at);
         }
         for (k, b) in self.block.iter().enumerate() {
-            let line = Some(line_at(source, b.span().start));
+            let line = Some(lines.at(b.span().start));
             let block = b.get_ref();
             if !(block.radius.is_finite() && block.radius > 0.0) {
                 at(
@@ -886,7 +920,7 @@ impl Scenario {
             colour_problem(&block.color, line, &format!("block #{}", k + 1), &mut at);
         }
         for (k, d) in self.disc.iter().enumerate() {
-            let line = Some(line_at(source, d.span().start));
+            let line = Some(lines.at(d.span().start));
             colour_problem(
                 &d.get_ref().color,
                 line,
@@ -946,6 +980,7 @@ impl Scenario {
             file: file.to_string(),
             problems: vec![Problem { line, message }],
         };
+        let lines = LineIndex::new(source);
         let estimate = self
             .estimate()
             .ok_or_else(|| fail(None, "the particle count overflows".into()))?;
@@ -980,14 +1015,8 @@ impl Scenario {
                 }
             };
             typeid.extend(std::iter::repeat_n(t as u32, n));
-            tables.push((placed.len(), what.clone(), line));
+            tables.push((placed.len(), what, line));
             placed.extend_from_slice(&discs);
-            world.add_particles(discs).map_err(|(i, e)| {
-                fail(
-                    Some(line),
-                    format!("{what}: particle {} of {n}: {e}", i + 1),
-                )
-            })?;
             colours.extend(std::iter::repeat_n(rgb, n));
             Ok::<(), ScenarioError>(())
         };
@@ -1019,7 +1048,7 @@ impl Scenario {
         );
         entries.sort_by_key(|&(start, _)| start);
         for (start, entry) in entries {
-            let line = line_at(source, start);
+            let line = lines.at(start);
             match entry {
                 Entry::Gas(k) => {
                     let spec = self.gas[k].get_ref();
@@ -1107,6 +1136,18 @@ impl Scenario {
                 }
             }
         }
+        // Into the world at once (one at a time, each addition re-measured the world: a
+        // table per disc took `O(N²)`); an invalid disc is named by its table.
+        let total = placed.len();
+        world.add_particles(placed).map_err(|(i, e)| {
+            let k = tables.partition_point(|t| t.0 <= i) - 1;
+            let (start, what, line) = &tables[k];
+            let n = tables.get(k + 1).map_or(total, |t| t.0) - start;
+            fail(
+                Some(*line),
+                format!("{what}: particle {} of {n}: {e}", i - start + 1),
+            )
+        })?;
         let overlaps = overlapping(&world, &tables);
         if !overlaps.is_empty() {
             return Err(ScenarioError {

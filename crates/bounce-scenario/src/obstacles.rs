@@ -143,6 +143,15 @@ impl ObstacleSpec {
             ));
         }
         if let Some(pegs) = &self.pegs
+            && (pegs.rows == 0 || pegs.columns == 0)
+        {
+            // An empty group has no place: its stats.csv columns would be NaN.
+            out.push(format!(
+                "pegs: {} rows of {} is no peg (rows and columns must be >= 1)",
+                pegs.rows, pegs.columns
+            ));
+        }
+        if let Some(pegs) = &self.pegs
             && pegs.rows.saturating_mul(pegs.columns) > MAX_PEGS
         {
             out.push(format!(

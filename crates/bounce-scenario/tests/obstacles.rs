@@ -286,6 +286,9 @@ segment = [[3.0, 3.0], [3.0, 3.0]]
 peg = [1.0, 1.0]
 radius = -2.0
 restitution = 1.5
+[[obstacle]]
+pegs = { origin = [2.0, 2.0], rows = 3, columns = 0, spacing = [1.0, 1.0] }
+radius = 0.1
 "#;
     let error = Session::from_text("bad.toml", text)
         .unwrap_err()
@@ -296,6 +299,7 @@ restitution = 1.5
         "bad.toml:14: obstacle #3: a driven obstacle (`force`) is one segment or one peg",
         "bad.toml:18: obstacle #4: segment [3.0, 3.0] to [3.0, 3.0]: the ends must differ",
         "bad.toml:20: obstacle #5: peg.radius -2: must be finite and > 0",
+        "bad.toml:24: obstacle #6: pegs: 3 rows of 0 is no peg (rows and columns must be >= 1)",
     ] {
         assert!(
             error.contains(expected),

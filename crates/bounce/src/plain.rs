@@ -52,9 +52,7 @@ use crate::world::{StepError, Substepped, World};
 /// assert_eq!(fast.state_hash(), reference.state_hash());
 /// ```
 pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(StepError::InvalidTimeStep(dt));
-    }
+    world.check_time_step(dt)?;
     let substeps = world.substeps_for(dt).clamp(1, crate::MAX_SUBSTEPS);
     let emitted = world.emit(dt);
     world.broadphase.invalidate();

@@ -187,6 +187,14 @@ fn bad_time_steps() {
         assert!(err.to_string().contains("dt"));
     }
     assert_eq!(w.step_count(), 0);
+    // A finite dt that the clock cannot hold: refused before the step, nothing moved.
+    w.step(1e308).unwrap();
+    let before = w.state_hash();
+    let err = w.step(1e308).unwrap_err();
+    assert!(matches!(err, StepError::ClockOverflow { .. }), "{err}");
+    assert!(err.to_string().contains("overflows the clock"), "{err}");
+    assert_eq!((w.step_count(), w.state_hash()), (1, before));
+    assert!(w.time().is_finite());
 }
 
 #[test]

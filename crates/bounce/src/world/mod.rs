@@ -116,6 +116,14 @@ pub enum StepError {
     /// The time step is not a finite number `> 0`.
     #[error("time step dt = {0} must be finite and > 0")]
     InvalidTimeStep(f64),
+    /// The clock would pass what `f64` holds: the time after the step is not finite.
+    #[error("time {time} + dt {dt} overflows the clock (dt is too large for the run)")]
+    ClockOverflow {
+        /// The time before the step.
+        time: f64,
+        /// The time step.
+        dt: f64,
+    },
     /// A position or velocity overflowed (became infinite or NaN) during the step: the time
     /// step, gravity or speeds are too large for `f64`. The world's state is no longer
     /// usable; reload a checkpoint.

@@ -26,9 +26,7 @@ impl World {
     /// The step's body, on one of the pool's threads when the world is large enough to use
     /// them (see `Executor::installer`).
     pub(super) fn step_in_pool(&mut self, dt: f64, substeps: u32) -> Result<(), StepError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(StepError::InvalidTimeStep(dt));
-        }
+        self.check_time_step(dt)?;
         let substeps = substeps.clamp(1, crate::MAX_SUBSTEPS);
         let emitted = self.emit(dt);
         self.prepare_obstacles();
@@ -49,6 +47,21 @@ impl World {
             }
         }
         self.finish_step(dt, done)
+    }
+
+    /// Refuses a `dt` that is not finite and `> 0`, or that would take the clock past
+    /// `f64`: a step never starts that cannot end.
+    pub(crate) fn check_time_step(&self, dt: f64) -> Result<(), StepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(StepError::InvalidTimeStep(dt));
+        }
+        if !(self.time + dt).is_finite() {
+            return Err(StepError::ClockOverflow {
+                time: self.time,
+                dt,
+            });
+        }
+        Ok(())
     }
 
     /// The end of every step, fast or plain, after its substeps: the sinks, the
