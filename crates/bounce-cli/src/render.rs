@@ -71,14 +71,18 @@ impl Painter {
         (self.width, self.height)
     }
 
-    /// World coordinates to pixels (y up in the world, down in the image).
-    pub fn to_pixel(&self, x: f64, y: f64) -> (f32, f32) {
+    /// World coordinates to pixels (y up in the world, down in the image), in `f64`: far
+    /// shapes are clipped to the picture before the rasteriser's `f32`.
+    pub fn to_pixel(&self, x: f64, y: f64) -> (f64, f64) {
         let sx = self.width as f64 / (self.max[0] - self.min[0]);
         let sy = self.height as f64 / (self.max[1] - self.min[1]);
-        (
-            ((x - self.min[0]) * sx) as f32,
-            ((self.max[1] - y) * sy) as f32,
-        )
+        ((x - self.min[0]) * sx, (self.max[1] - y) * sy)
+    }
+
+    /// [`Painter::to_pixel`] for a point the rasteriser may take as it is (the box's corners).
+    fn to_pixel_f32(&self, x: f64, y: f64) -> (f32, f32) {
+        let (x, y) = self.to_pixel(x, y);
+        (x as f32, y as f32)
     }
 
     /// Draws the world.
@@ -89,8 +93,8 @@ impl Painter {
         if let Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } =
             world.config().boundary
         {
-            let (x0, y0) = self.to_pixel(min[0], max[1]);
-            let (x1, y1) = self.to_pixel(max[0], min[1]);
+            let (x0, y0) = self.to_pixel_f32(min[0], max[1]);
+            let (x1, y1) = self.to_pixel_f32(max[0], min[1]);
             if let Some(rect) = Rect::from_ltrb(x0 + 0.5, y0 + 0.5, x1 - 0.5, y1 - 0.5) {
                 let mut paint = Paint::default();
                 paint.set_color(rgb(BOX_EDGE));
@@ -111,11 +115,11 @@ impl Painter {
             anti_alias: true,
             ..Paint::default()
         };
-        let (width, height) = (self.width as f32, self.height as f32);
+        let (width, height) = (self.width as f64, self.height as f64);
         // In id order: overlapping discs are drawn the same way whatever the storage order.
         for (_, i) in world.in_id_order() {
             let (x, y) = self.to_pixel(p.x()[i], p.y()[i]);
-            let r = (p.radius()[i] * scale) as f32;
+            let r = p.radius()[i] * scale;
             // Only discs that reach into the picture: a frame of a small view of a large
             // world draws a few thousand of its million discs.
             if !(x + r >= 0.0 && x - r <= width && y + r >= 0.0 && y - r <= height) {
@@ -129,7 +133,7 @@ impl Painter {
             )));
             if r < 0.75 {
                 // Smaller than a pixel: one pixel, so a million discs stay visible and fast.
-                if let Some(rect) = Rect::from_xywh(x.floor(), y.floor(), 1.0, 1.0) {
+                if let Some(rect) = Rect::from_xywh(x.floor() as f32, y.floor() as f32, 1.0, 1.0) {
                     pixmap.fill_rect(rect, &paint, Transform::identity(), None);
                 }
             } else {
@@ -155,8 +159,8 @@ impl Painter {
             .chain(config.sinks.iter().map(|s| (s.min, s.max, SINK)));
         let mut paint = Paint::default();
         for (min, max, colour) in regions {
-            let (x0, y0) = self.to_pixel(min[0], max[1]);
-            let (x1, y1) = self.to_pixel(max[0], min[1]);
+            let (x0, y0) = self.to_pixel_f32(min[0], max[1]);
+            let (x1, y1) = self.to_pixel_f32(max[0], min[1]);
             if let Some(rect) = Rect::from_ltrb(x0, y0, x1, y1) {
                 paint.set_color(rgb(colour));
                 let path = PathBuilder::from_rect(rect);
@@ -191,8 +195,12 @@ impl Painter {
             paint.set_color(rgb(colour));
             match *shape {
                 Shape::Segment { a, b } => {
-                    let (x0, y0) = self.to_pixel(a[0], a[1]);
-                    let (x1, y1) = self.to_pixel(b[0], b[1]);
+                    let size = (self.width as f64, self.height as f64);
+                    let Some([(x0, y0), (x1, y1)]) =
+                        clip_segment(self.to_pixel(a[0], a[1]), self.to_pixel(b[0], b[1]), size)
+                    else {
+                        continue;
+                    };
                     let mut path = PathBuilder::new();
                     path.move_to(x0, y0);
                     path.line_to(x1, y1);
@@ -202,18 +210,94 @@ impl Painter {
                 }
                 Shape::Peg { centre, radius } => {
                     let (x, y) = self.to_pixel(centre[0], centre[1]);
-                    fill_circle(pixmap, x, y, ((radius * scale) as f32).max(0.75), &paint);
+                    fill_circle(pixmap, x, y, (radius * scale).max(0.75), &paint);
                 }
             }
         }
     }
 }
 
-/// A filled circle of radius `r` pixels at `(x, y)`.
-fn fill_circle(pixmap: &mut Pixmap, x: f32, y: f32, r: f32, paint: &Paint) {
-    if let Some(path) = PathBuilder::from_circle(x, y, r) {
-        pixmap.fill_path(&path, paint, FillRule::Winding, Transform::identity(), None);
+/// Beyond this many pixels from the picture, or this large, shapes are clipped to it here:
+/// the rasteriser's fixed-point coordinates overflow far out (and panic).
+const RASTER_LIMIT: f64 = 4096.0;
+
+/// A filled circle of radius `r` pixels at `(x, y)`, of any size and place: nothing where
+/// it misses the picture; a large or far one as the exact spans of its pixel rows.
+fn fill_circle(pixmap: &mut Pixmap, x: f64, y: f64, r: f64, paint: &Paint) {
+    let (width, height) = (pixmap.width() as f64, pixmap.height() as f64);
+    if !(x + r >= 0.0 && x - r <= width && y + r >= 0.0 && y - r <= height) {
+        return;
     }
+    let near = |v: f64, size: f64| v.abs() <= RASTER_LIMIT + size;
+    if r <= RASTER_LIMIT && near(x, width) && near(y, height) {
+        if let Some(path) = PathBuilder::from_circle(x as f32, y as f32, r as f32) {
+            pixmap.fill_path(&path, paint, FillRule::Winding, Transform::identity(), None);
+        }
+        return;
+    }
+    let (cx, cy) = (x, y);
+    for row in 0..pixmap.height() {
+        let dy = row as f64 + 0.5 - cy;
+        if dy.abs() > r {
+            continue;
+        }
+        let half = (r * r - dy * dy).sqrt();
+        let (left, right) = ((cx - half).max(0.0), (cx + half).min(width));
+        if let Some(rect) = Rect::from_ltrb(left as f32, row as f32, right as f32, row as f32 + 1.0)
+        {
+            pixmap.fill_rect(rect, paint, Transform::identity(), None);
+        }
+    }
+}
+
+/// The part of the segment from `a` to `b` (pixels) within [`RASTER_LIMIT`] of a picture
+/// of `size` (Liang–Barsky), if any.
+fn clip_segment(a: (f64, f64), b: (f64, f64), size: (f64, f64)) -> Option<[(f32, f32); 2]> {
+    let (lo, hi) = (
+        -RASTER_LIMIT,
+        [size.0 + RASTER_LIMIT, size.1 + RASTER_LIMIT],
+    );
+    let (x0, y0, dx, dy) = (a.0, a.1, b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    // Which side clipped each end: that coordinate is then the side's, exactly (`t` of a
+    // long segment carries its length's rounding).
+    let (mut side0, mut side1) = (None, None);
+    let sides = [(0, lo), (0, hi[0]), (1, lo), (1, hi[1])];
+    for (k, (p, q)) in [
+        (-dx, x0 - lo),
+        (dx, hi[0] - x0),
+        (-dy, y0 - lo),
+        (dy, hi[1] - y0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if !(p.is_finite() && q.is_finite()) {
+            return None;
+        }
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 && t > t0 {
+                (t0, side0) = (t, Some(sides[k]));
+            } else if p > 0.0 && t < t1 {
+                (t1, side1) = (t, Some(sides[k]));
+            }
+        }
+    }
+    (t0 <= t1).then(|| {
+        let at = |t: f64, side: Option<(usize, f64)>| {
+            let mut point = [x0 + t * dx, y0 + t * dy];
+            if let Some((axis, v)) = side {
+                point[axis] = v;
+            }
+            (point[0] as f32, point[1] as f32)
+        };
+        [at(t0, side0), at(t1, side1)]
+    })
 }
 
 fn rgb(c: Rgb) -> Color {
@@ -360,5 +444,34 @@ mod tests {
         // Inside: drawn.
         let inside = painted(&[([5.0, 5.0], 1.0)]);
         assert!(inside[50 * 100 + 50]);
+    }
+
+    #[test]
+    fn shapes_of_any_size_and_place_are_drawn_without_a_panic() {
+        // A disc far larger than the picture, centred off it: its edge crosses the view.
+        let huge = painted(&[([-1e9 + 5.0, 5.0], 1e9)]);
+        assert!(
+            huge[50 * 100 + 40] && !huge[50 * 100 + 60],
+            "the edge at x = 5"
+        );
+        // Covering all of it.
+        assert!(painted(&[([5.0, 5.0], 4.3e9)]).iter().all(|&blue| blue));
+        let mut pixmap = Pixmap::new(100, 100).unwrap();
+        let paint = Paint::default();
+        for (x, y, r) in [(1e30, 5.0, 1e31), (-3e38, 3e38, 1e3), (50.0, 50.0, 3e38)] {
+            fill_circle(&mut pixmap, x, y, r, &paint);
+        }
+        // Segments clipped near the picture, whatever their ends.
+        assert_eq!(
+            clip_segment((-1e20, 50.0), (-1e19, 50.0), (100.0, 100.0)),
+            None
+        );
+        let [a, b] = clip_segment((-1e20, 50.0), (1e20, 50.0), (100.0, 100.0)).unwrap();
+        let limit = RASTER_LIMIT as f32;
+        assert_eq!((a, b), ((-limit, 50.0), (100.0 + limit, 50.0)));
+        assert_eq!(
+            clip_segment((10.0, 10.0), (20.0, 30.0), (100.0, 100.0)),
+            Some([(10.0, 10.0), (20.0, 30.0)])
+        );
     }
 }

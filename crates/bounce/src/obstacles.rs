@@ -152,9 +152,12 @@ impl Grid {
         // Cells one largest reach across: a cell lists what comes within reach of any
         // of its points, so smaller cells list fewer obstacles a disc then does not touch
         // (finer cells than this measured no faster: the table outgrows the cache).
-        // No more than MAX_CELLS of them.
+        // No more than about MAX_CELLS of them, however long and thin the obstacles' box
+        // (one segment far longer than the world would otherwise ask for a row of cells
+        // along all of it).
         let cell = (widest / 2.0)
             .max((size[0] * size[1] / MAX_CELLS).sqrt())
+            .max(size[0].max(size[1]) / MAX_CELLS)
             .max(f64::MIN_POSITIVE);
         let dims = [0, 1].map(|a| ((size[a] / cell).floor() as usize + 1).max(1));
         let inv_cell = 1.0 / cell;
@@ -509,6 +512,31 @@ fn extent(shape: &Shape) -> [[f64; 2]; 2] {
 mod tests {
     use super::*;
     use crate::config::Obstacle;
+
+    #[test]
+    fn the_grid_stays_small_however_far_the_obstacles_reach() {
+        // A segment 2e20 long and a peg 1e20 away: the grid's cells grow, not their number.
+        let config = Config {
+            obstacles: vec![
+                Obstacle::segment([-1e20, 5.0], [1e20, 7.0]),
+                Obstacle::peg([1e20, 1e20], 1.0),
+                Obstacle::peg([3.0, 3.0], 1.0),
+            ],
+            ..Config::default()
+        };
+        let law = Law::new(&config);
+        let obstacles = Obstacles::new(&config, &[ObstacleState::default(); 3], 0.5);
+        let grid = &obstacles.grid;
+        assert!(
+            grid.dims[0] * grid.dims[1] <= 3 * MAX_CELLS as usize,
+            "{:?}",
+            grid.dims
+        );
+        // Still every obstacle a disc touches.
+        assert!(obstacles.blocks([3.0, 4.2], 0.5, &law));
+        assert!(obstacles.blocks([0.0, 6.2], 0.5, &law));
+        assert!(!obstacles.blocks([0.0, 9.0], 0.5, &law));
+    }
 
     #[test]
     fn the_grid_lists_every_obstacle_within_reach() {
