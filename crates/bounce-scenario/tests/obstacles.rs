@@ -176,6 +176,16 @@ fn the_galton_board_fills_its_bins_as_a_bell_curve() {
          (mean {mean}, sd {sd}): {counts:?}"
     );
     eprintln!("bins {counts:?}: mean {mean:.3}, sd {sd:.3}, chi-square {chi2:.2} ({df} df)");
+    // (4) What the board shows is not the binomial of independent balls: 15 rows, each a
+    // step of half the peg spacing (1.2) left or right, spread them by 1.2 √15 = 4.65 units,
+    // 1.55 bins of 3. The balls fall as a crowd and knock each other sideways: the heap is
+    // about 2.6 times as wide (the template says so).
+    let binomial = 1.2 * 15f64.sqrt() / 3.0;
+    let ratio = sd / binomial;
+    assert!(
+        (2.0..3.2).contains(&ratio),
+        "spread {sd:.2} bins, {ratio:.2} times the binomial's {binomial:.2}"
+    );
     let mode = (0..20).max_by_key(|&k| counts[k]).unwrap();
     let slack = n / 100;
     for k in 1..=mode {
