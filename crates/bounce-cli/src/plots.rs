@@ -10,6 +10,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use bounce::World;
+use bounce_scenario::analysis::hard_disc_adiabat;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
@@ -47,6 +48,9 @@ pub struct Piston {
     /// The box: the gas fills from the piston to the wall `towards` points at.
     pub min: [f64; 2],
     pub max: [f64; 2],
+    /// The area the gas's discs cover as hard discs (`π (s r)²` each, `s` the collision
+    /// radius scale): its packing fraction sets the adiabat's steepness.
+    pub disc_area: f64,
 }
 
 pub(crate) fn register_font() -> Result<()> {
@@ -220,8 +224,9 @@ fn xy_chart<'a, DB: DrawingBackend>(
 }
 
 /// The pressure on a piston (the force into it over its length, mean over each row's
-/// steps) against the area the gas has, with the ideal gas's adiabat through the first
-/// measured point (2D: `P A^2` constant, γ = 2) for comparison.
+/// steps) against the area the gas has, with the hard-disc adiabat through the first
+/// measured points (`analysis::hard_disc_adiabat`: `d ln T = −Z(η) d ln A` with Henderson's
+/// `Z`; the ideal gas's `P A²` constant holds only where the gas is dilute).
 fn pressure_area<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     history: &[Sample],
@@ -277,14 +282,15 @@ fn pressure_area<DB: DrawingBackend>(
     if !first.is_empty() {
         let a0 = first.iter().map(|p| p.0).sum::<f64>() / first.len() as f64;
         let p0 = first.iter().map(|p| p.1).sum::<f64>() / first.len() as f64;
-        let curve = (0..=100).map(|k| {
+        let curve = (0..=100).filter_map(|k| {
             let a = a_lo + (a_hi - a_lo) * k as f64 / 100.0;
-            (a, (p0 * a0 * a0 / (a * a)).clamp(p_lo, p_hi))
+            let p = hard_disc_adiabat(a0, p0, piston.disc_area, a);
+            p.is_finite().then_some((a, p.clamp(p_lo, p_hi)))
         });
         chart
             .draw_series(LineSeries::new(curve, BLACK.stroke_width(2)))
             .map_err(plot_err)?
-            .label("ideal gas adiabat P A² = const")
+            .label("hard-disc adiabat (Henderson's Z)")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], BLACK.stroke_width(2)));
     }
     legend(&mut chart, 13)?;

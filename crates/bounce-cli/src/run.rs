@@ -645,6 +645,15 @@ fn piston_of(session: &Session) -> Option<(String, plots::Piston)> {
     } else {
         [-normal[0], -normal[1]]
     };
+    // The discs as hard discs: the collision distance of two is their radii's sum scaled.
+    let scale = session.world.config().collision_radius_scale;
+    let disc_area = session
+        .world
+        .particles()
+        .radius()
+        .iter()
+        .map(|r| std::f64::consts::PI * (scale * r).powi(2))
+        .sum();
     Some((
         group.name?,
         plots::Piston {
@@ -652,6 +661,7 @@ fn piston_of(session: &Session) -> Option<(String, plots::Piston)> {
             towards,
             min,
             max,
+            disc_area,
         },
     ))
 }

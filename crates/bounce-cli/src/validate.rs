@@ -43,10 +43,7 @@ struct Check {
     pass: bool,
 }
 
-/// Henderson's equation of state for hard discs.
-fn henderson(eta: f64) -> f64 {
-    (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta))
-}
+use bounce_scenario::analysis::henderson_z as henderson;
 
 /// A periodic box of `discs` equal discs (radius 0.5) at `packing`, on a melted lattice.
 fn periodic_gas(discs: usize, packing: f64, speeds: Speeds, config: Config) -> Result<World> {
