@@ -171,7 +171,13 @@ fn the_effusion_template_leaks_at_kinetic_theorys_rate_over_twelve_seeds() {
             let mut s = Session::from_text("effusion", &text).unwrap();
             s.run_until(6000, |_, _| Ok::<_, StepError>(ControlFlow::Continue(())))
                 .unwrap();
-            let left = s.world.particles().x().iter().filter(|&&x| x < 40.0).count();
+            let left = s
+                .world
+                .particles()
+                .x()
+                .iter()
+                .filter(|&&x| x < 40.0)
+                .count();
             n0 - left as f64
         })
         .collect();

@@ -14,6 +14,8 @@
 use crate::config::{Emitter, EmitterState};
 use crate::law::Law;
 use crate::particles::{Particle, Particles};
+use std::collections::HashMap;
+
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -62,37 +64,57 @@ pub(crate) fn emit(
     // What could not be placed is carried, but never more than one step's worth.
     let per_step = emitter.rate * dt;
     state.due = (state.due + per_step).min(per_step.max(1.0) + 1.0);
-    let wanted = (state.due.floor() as u64).min(left);
+    // And never more than the region can hold: centres at least a collision distance `d`
+    // apart each own a disc of diameter `d`, inside the region grown by `d / 2` on each side.
+    let d = law.collision_distance(emitter.radius[0], emitter.radius[0]);
+    let [w, h] = [
+        emitter.max[0] - emitter.min[0],
+        emitter.max[1] - emitter.min[1],
+    ];
+    let capacity = ((w + d) * (h + d) / (std::f64::consts::FRAC_PI_4 * d * d)).floor() + 1.0;
+    let wanted = (state.due.floor().min(capacity) as u64).min(left);
     if wanted == 0 {
         return Vec::new();
     }
-    // The discs that could touch a new one: centres within reach of the region.
+    // The discs that could touch a new one: centres within reach of the region, in cells a
+    // reach wide (a new disc meets only the 3×3 cells around it).
     let r_max = p.radius().iter().copied().fold(emitter.radius[1], f64::max);
     let reach = law.collision_distance(emitter.radius[1], r_max);
-    let near: Vec<([f64; 2], f64)> = (0..p.len())
-        .filter(|&i| {
-            let (x, y) = (p.x()[i], p.y()[i]);
-            x >= emitter.min[0] - reach
-                && x <= emitter.max[0] + reach
-                && y >= emitter.min[1] - reach
-                && y <= emitter.max[1] + reach
-        })
-        .map(|i| ([p.x()[i], p.y()[i]], p.radius()[i]))
-        .collect();
+    let cell_of = |q: [f64; 2]| [(q[0] / reach).floor() as i64, (q[1] / reach).floor() as i64];
+    let mut near: HashMap<[i64; 2], Vec<([f64; 2], f64)>> = HashMap::new();
+    for i in 0..p.len() {
+        let (x, y) = (p.x()[i], p.y()[i]);
+        if x >= emitter.min[0] - reach
+            && x <= emitter.max[0] + reach
+            && y >= emitter.min[1] - reach
+            && y <= emitter.max[1] + reach
+        {
+            near.entry(cell_of([x, y]))
+                .or_default()
+                .push(([x, y], p.radius()[i]));
+        }
+    }
     let mut placed: Vec<Particle> = Vec::new();
     let mut budget = wanted * ATTEMPTS_PER_DISC;
     while (placed.len() as u64) < wanted && budget > 0 {
         budget -= 1;
         let disc = disc(emitter, state.attempts);
         state.attempts += 1;
-        let touches = |(q, r): ([f64; 2], f64)| {
+        let touches = |&(q, r): &([f64; 2], f64)| {
             let d = [disc.position[0] - q[0], disc.position[1] - q[1]];
             law.is_colliding(d, disc.radius, r)
         };
-        let clear = near.iter().all(|&q| !touches(q))
-            && placed.iter().all(|o| !touches((o.position, o.radius)))
-            && !blocked(&disc);
+        let [cx, cy] = cell_of(disc.position);
+        let clear = (-1..=1).all(|dy| {
+            (-1..=1).all(|dx| {
+                let cell = [cx.saturating_add(dx), cy.saturating_add(dy)];
+                near.get(&cell).is_none_or(|list| !list.iter().any(touches))
+            })
+        }) && !blocked(&disc);
         if clear {
+            near.entry(cell_of(disc.position))
+                .or_default()
+                .push((disc.position, disc.radius));
             placed.push(disc);
         }
     }

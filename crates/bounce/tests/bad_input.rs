@@ -306,3 +306,29 @@ fn a_step_that_overflows_names_the_step_and_the_particle() {
         Err(ParticleError::EnergyOverflow { .. })
     ));
 }
+
+#[test]
+fn an_emitter_at_an_absurd_rate_fills_its_region_and_no_more() {
+    // 1e20 discs a second: a step places what the region holds (discs at least a collision
+    // distance apart) and carries no more than a step's worth, every step ending.
+    let config = Config {
+        boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+        emitters: vec![bounce::Emitter {
+            rate: 1e20,
+            ..bounce::Emitter::new([2.0, 2.0], [8.0, 8.0], 0.5)
+        }],
+        ..Config::default()
+    };
+    let mut world = World::new(config).unwrap();
+    for _ in 0..3 {
+        world.step(0.01).unwrap();
+    }
+    // At most the region grown by half a collision distance over each disc's share.
+    let bound = (7.0 * 7.0 / (std::f64::consts::FRAC_PI_4 * 1.0)) as usize + 1;
+    assert!(
+        world.len() > 10 && world.len() <= bound,
+        "{} discs",
+        world.len()
+    );
+    assert!(world.colliding_pairs().is_empty(), "placed discs overlap");
+}
