@@ -38,6 +38,12 @@ pub(crate) struct Obstacles {
     restitution: Vec<f64>,
     /// Indices of the moving obstacles, tested against every disc.
     moving: Vec<u32>,
+    /// Indices of the fixed ones, ascending: what a path longer than `cross_reach` may cross.
+    fixed: Vec<u32>,
+    /// The longest path from a disc's trail mark to its place whose crossed segments the
+    /// grid is sure to list at one end: twice a segment's reach for the grid's largest disc
+    /// (a crossed segment is within half the path of one end).
+    cross_reach: f64,
     /// Whether any obstacle is a segment (which a disc could cross: pegs have an inside).
     has_segments: bool,
     grid: Grid,
@@ -86,6 +92,8 @@ impl Obstacles {
             shapes,
             restitution,
             moving,
+            fixed,
+            cross_reach: 2.0 * law.reach(max_radius),
             grid,
         }
     }
@@ -360,7 +368,12 @@ pub(crate) fn resolve_obstacles(
             } else {
                 obstacles.grid.near(from[0], from[1])
             };
-            if near.is_empty() && near_from.is_empty() && obstacles.moving.is_empty() {
+            // A path longer than the grid vouches for may cross a segment listed at neither
+            // end (see `cross_reach`).
+            let path = [x[k] - from[0], y[k] - from[1]];
+            let long = path[0] * path[0] + path[1] * path[1]
+                > obstacles.cross_reach * obstacles.cross_reach;
+            if near.is_empty() && near_from.is_empty() && obstacles.moving.is_empty() && !long {
                 if followed {
                     (x0[k], y0[k]) = (x[k], y[k]);
                 }
@@ -374,11 +387,26 @@ pub(crate) fn resolve_obstacles(
             };
             let start = disc;
             if followed {
-                for &o in near_from.iter().chain(near).chain(&obstacles.moving) {
+                // The segments the path may cross, in obstacle order (the fixed ones
+                // ascending, then the moving): those listed at either end, or for a path
+                // longer than the grid vouches for, every fixed one.
+                let mut meet = |o: u32| {
                     let shape = &obstacles.shapes[o as usize];
                     uncross(shape, from, &mut disc.position, law.reach(disc.radius));
+                };
+                if long {
+                    obstacles.fixed.iter().for_each(|&o| meet(o));
+                } else {
+                    in_order(near_from, near, &mut meet);
                 }
+                obstacles.moving.iter().for_each(|&o| meet(o));
             }
+            // Sent back across a segment, the disc meets what is near where it is now.
+            let near = if disc.position == start.position {
+                near
+            } else {
+                obstacles.grid.near(disc.position[0], disc.position[1])
+            };
             for &o in near.iter().chain(&obstacles.moving) {
                 let u = velocities[o as usize];
                 let before = disc.velocity;
@@ -409,6 +437,33 @@ pub(crate) fn resolve_obstacles(
         total.work.merge(&part.work);
     }
     total
+}
+
+/// Each index of two ascending lists once, ascending.
+fn in_order(a: &[u32], b: &[u32], mut f: impl FnMut(u32)) {
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() || j < b.len() {
+        let next = match (a.get(i), b.get(j)) {
+            (Some(&u), Some(&v)) if u == v => {
+                (i, j) = (i + 1, j + 1);
+                u
+            }
+            (Some(&u), Some(&v)) if u < v => {
+                i += 1;
+                u
+            }
+            (Some(&u), None) => {
+                i += 1;
+                u
+            }
+            (_, Some(&v)) => {
+                j += 1;
+                v
+            }
+            (None, None) => unreachable!("the loop's condition"),
+        };
+        f(next);
+    }
 }
 
 /// Where a disc's path to `position` starts, for a disc last marked at `mark`: the mark

@@ -234,8 +234,23 @@ fn same_bits(r: &Recipe, threads: usize, steps: usize) -> Result<(), TestCaseErr
     Ok(())
 }
 
+/// 48 worlds, the same ones on every run (CI stays reproducible); `PROPTEST_RNG_SEED` (and
+/// `PROPTEST_CASES`) draw others. Random seeds found the two bugs fixed in the obstacles'
+/// pass: a long path crossing a segment listed at neither end, and a disc sent back across
+/// a segment meeting what was near its old place.
+fn cases() -> ProptestConfig {
+    let mut config = ProptestConfig {
+        cases: 48,
+        ..ProptestConfig::default()
+    };
+    if std::env::var_os("PROPTEST_RNG_SEED").is_none() {
+        config.rng_seed = proptest::test_runner::RngSeed::Fixed(0x6f75_6e63_65);
+    }
+    config
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(cases())]
 
     #[test]
     fn the_fast_step_keeps_the_plain_steps_bits(r in recipe()) {
