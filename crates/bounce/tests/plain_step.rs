@@ -244,7 +244,7 @@ fn cases() -> ProptestConfig {
         ..ProptestConfig::default()
     };
     if std::env::var_os("PROPTEST_RNG_SEED").is_none() {
-        config.rng_seed = proptest::test_runner::RngSeed::Fixed(0x6f75_6e63_65);
+        config.rng_seed = proptest::test_runner::RngSeed::Fixed(0x006f_756e_6365);
     }
     config
 }
