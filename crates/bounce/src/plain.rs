@@ -53,7 +53,7 @@ use crate::world::{StepError, Substepped, World};
 /// ```
 pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     world.check_time_step(dt)?;
-    let substeps = world.substeps_for(dt).clamp(1, crate::MAX_SUBSTEPS);
+    let substeps = world.check_substeps(dt, world.substeps_for(dt))?;
     let emitted = world.emit(dt);
     world.broadphase.invalidate();
     let config = world.config.clone();

@@ -308,6 +308,35 @@ fn a_step_that_overflows_names_the_step_and_the_particle() {
 }
 
 #[test]
+fn a_step_needing_more_substeps_than_the_cap_is_refused_naming_dt_and_max_travel() {
+    let config = Config {
+        boundary: Boundary::walls([0.0, 0.0], [1e9, 1e9]),
+        max_travel: Some(0.01),
+        ..Config::default()
+    };
+    let mut world = World::new(config).unwrap();
+    world
+        .add_particle(Particle::new([5e8, 5e8], [1e6, 0.0], 0.5))
+        .unwrap();
+    let before = world.state_hash();
+    // 1e6 × 0.01 / (0.01 × 0.5) = 2e6 substeps.
+    let err = world.step(0.01).unwrap_err();
+    assert!(matches!(err, StepError::TooManySubsteps { .. }), "{err}");
+    let message = err.to_string();
+    assert!(
+        message.contains("dt 0.01") && message.contains("max_travel 0.01"),
+        "{message}"
+    );
+    assert_eq!((world.step_count(), world.state_hash()), (0, before));
+    assert!(bounce::plain::step(&mut world, 0.01).is_err());
+    // Within the cap it steps: 1e3 × 0.01 / 0.005 = 2,000 substeps.
+    world
+        .set_velocity(bounce::ParticleId(0), [1e3, 0.0])
+        .unwrap();
+    assert_eq!(world.step(0.01).unwrap().substeps, 2000);
+}
+
+#[test]
 fn an_emitter_at_an_absurd_rate_fills_its_region_and_no_more() {
     // 1e20 discs a second: a step places what the region holds (discs at least a collision
     // distance apart) and carries no more than a step's worth, every step ending.

@@ -116,6 +116,20 @@ pub enum StepError {
     /// The time step is not a finite number `> 0`.
     #[error("time step dt = {0} must be finite and > 0")]
     InvalidTimeStep(f64),
+    /// With `max_travel`, the fastest disc would need more substeps than
+    /// [`crate::MAX_SUBSTEPS`] in a step of `dt`: the step is refused rather than let discs
+    /// tunnel.
+    #[error(
+        "dt {dt} needs more than {} substeps to keep the fastest disc within max_travel \
+         {max_travel} of the smallest radius per substep: lower dt or raise max_travel",
+        crate::MAX_SUBSTEPS
+    )]
+    TooManySubsteps {
+        /// The time step.
+        dt: f64,
+        /// The configured `max_travel`.
+        max_travel: f64,
+    },
     /// The clock would pass what `f64` holds: the time after the step is not finite.
     #[error("time {time} + dt {dt} overflows the clock (dt is too large for the run)")]
     ClockOverflow {
@@ -337,14 +351,15 @@ impl World {
 
     /// The substeps a step of `dt` takes: `config.substeps`, or with `config.max_travel` as
     /// many as keep the fastest disc (gravity included) within `max_travel` of the smallest
-    /// radius per substep, at most [`crate::MAX_SUBSTEPS`].
+    /// radius per substep (more than [`crate::MAX_SUBSTEPS`] is refused by the step).
     pub(crate) fn substeps_for(&self, dt: f64) -> u32 {
         self.substeps_for_extremes(dt, self.measured.max_speed2, self.measured.min_radius)
     }
 
     /// The substeps a step of `dt` takes when the fastest disc's squared speed is
     /// `max_speed2` and the smallest radius `min_radius` (what [`World::step`] measures over
-    /// its own discs; a distributed run gives the whole world's).
+    /// its own discs; a distributed run gives the whole world's). More than
+    /// [`crate::MAX_SUBSTEPS`] means too many: [`World::step_with_substeps`] refuses it.
     pub fn substeps_for_extremes(&self, dt: f64, max_speed2: f64, min_radius: f64) -> u32 {
         let fixed = self.config.substeps;
         let Some(fraction) = self.config.max_travel else {
@@ -353,8 +368,11 @@ impl World {
         let [gx, gy] = self.config.gravity;
         let v_max = max_speed2.sqrt() + (gx * gx + gy * gy).sqrt() * dt;
         let needed = (v_max * dt / (fraction * min_radius)).ceil();
-        if needed.is_finite() && needed > fixed as f64 {
-            needed.min(crate::MAX_SUBSTEPS as f64) as u32
+        if needed > crate::MAX_SUBSTEPS as f64 {
+            // More than a step may take (or infinitely many): the step refuses it.
+            crate::MAX_SUBSTEPS + 1
+        } else if needed > fixed as f64 {
+            needed as u32
         } else {
             fixed
         }

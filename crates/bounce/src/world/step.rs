@@ -27,7 +27,7 @@ impl World {
     /// them (see `Executor::installer`).
     pub(super) fn step_in_pool(&mut self, dt: f64, substeps: u32) -> Result<(), StepError> {
         self.check_time_step(dt)?;
-        let substeps = substeps.clamp(1, crate::MAX_SUBSTEPS);
+        let substeps = self.check_substeps(dt, substeps)?;
         let emitted = self.emit(dt);
         self.prepare_obstacles();
         let mut done = Substepped::new(substeps, emitted, self.config.obstacles.len());
@@ -62,6 +62,18 @@ impl World {
             });
         }
         Ok(())
+    }
+
+    /// The substeps a step takes, at least one; more than [`crate::MAX_SUBSTEPS`] (only
+    /// `max_travel` asks for that) is refused, naming `dt` and `max_travel`.
+    pub(crate) fn check_substeps(&self, dt: f64, substeps: u32) -> Result<u32, StepError> {
+        if substeps > crate::MAX_SUBSTEPS {
+            return Err(StepError::TooManySubsteps {
+                dt,
+                max_travel: self.config.max_travel.unwrap_or(f64::NAN),
+            });
+        }
+        Ok(substeps.max(1))
     }
 
     /// The end of every step, fast or plain, after its substeps: the sinks, the
