@@ -57,8 +57,9 @@ pub struct Config {
     pub solver_iterations: u32,
     /// Adaptive substeps: the farthest a disc may travel in one substep, as a fraction of the
     /// smallest radius. `None` (the default) keeps `substeps` fixed. With `Some(f)`, each step
-    /// takes `max(substeps, ceil(v_max dt / (f r_min)))` substeps (at most
-    /// [`MAX_SUBSTEPS`]), chosen from the fastest disc at the start of the step and gravity:
+    /// takes `max(substeps, ceil(v_max dt / (f r_min)))` substeps (a step that would need
+    /// more than [`MAX_SUBSTEPS`] is refused with [`crate::StepError::TooManySubsteps`]),
+    /// chosen from the fastest disc at the start of the step and gravity:
     /// fast discs cannot tunnel through discs or walls, and the time-step bias stays bounded.
     /// Deterministic: the count depends on the state only. Must be finite and `> 0`.
     pub max_travel: Option<f64>,
