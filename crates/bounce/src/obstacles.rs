@@ -1,25 +1,19 @@
-//! Obstacles: segments and pegs that discs collide with, fixed or moving (a piston).
-//!
-//! An obstacle is an immovable body in the seed's collision rule: a disc of radius `r`
-//! collides with a segment when its centre is within `r * collision_radius_scale` of the
-//! segment's nearest point (ends and corners included: the normal runs from that point), and
-//! with a peg of radius `R` when within `(r + R) * collision_radius_scale` of its centre. A
-//! colliding disc is pushed out of the overlap by the whole amount (the obstacle does not
-//! move), and if it moves into the obstacle (in the obstacle's frame, for a moving one) its
-//! normal velocity is reversed and scaled by the obstacle's restitution; the tangential
-//! velocity is kept. Unlike the seed's pairs, a disc already leaving is not turned back:
-//! with an immovable partner the seed's step 6 would send it into the obstacle again.
+//! Obstacles in the step: segments and pegs that discs collide with, fixed or moving (a
+//! piston). What a disc does at one is the law's (`law::obstacle`: the seed's rule with an
+//! immovable partner); this module finds which obstacles a disc meets and keeps the books.
 //!
 //! Fixed obstacles are binned once in a uniform grid whose cells list every obstacle within
 //! reach of any point inside them, so a disc looks at one cell: a board of 10,000 pegs costs
 //! what the discs near pegs cost. Moving obstacles (a few pistons) are tested against every
 //! disc. Each disc is resolved alone against the obstacles near it, in obstacle order, so the
-//! pass runs in parallel chunks and gives the same bits on any thread count; the momentum
-//! each obstacle receives is summed per chunk and then in chunk order.
+//! pass runs in parallel chunks and gives the same bits on any thread count; each obstacle's
+//! impulses are summed exactly.
 //!
-//! A disc that moves more than its radius in one substep can pass through a segment between
-//! two passes; `Config::max_travel` bounds the travel per substep (`max_travel = 1` or less
-//! keeps every disc from tunnelling).
+//! A disc whose centre crossed a segment since its trail mark (it moved fast, or was pushed)
+//! goes back to the side it came from ([`uncross`]): the segments listed at either end of
+//! its path, or every fixed one for a path longer than the grid vouches for.
+//! `Config::max_travel` bounds the travel per substep (`max_travel = 1` or less keeps every
+//! disc from tunnelling through another).
 
 use crate::config::{Config, Motion, ObstacleState, Shape};
 use crate::context::StepContext;
