@@ -114,7 +114,7 @@ pub struct DiscRecord {
     pub velocity: [f64; 2],
     /// Radius.
     pub radius: f64,
-    /// The per-particle mass (see [`Particle::mass`]).
+    /// The per-particle mass (see [`crate::Particle::mass`]).
     pub mass: f64,
     /// Periodic image counts.
     pub image: [i32; 2],

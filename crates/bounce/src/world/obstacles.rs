@@ -44,7 +44,7 @@ impl World {
     }
 
     /// The work the moving obstacles have done on the discs since the start (the sum of
-    /// [`StepStats::obstacle_work`]): with elastic collisions, the gain in kinetic energy a
+    /// [`crate::StepStats::obstacle_work`]): with elastic collisions, the gain in kinetic energy a
     /// piston gave the gas.
     pub fn obstacle_work(&self) -> f64 {
         self.obstacle_work
