@@ -466,11 +466,18 @@ impl ScenarioError {
 /// (about 95 bytes per disc measured at 10^6), the generator's and the outputs' copies.
 pub const BYTES_PER_PARTICLE: u64 = 256;
 
+/// Memory a run needs per obstacle, with room to spare: the configuration's and the step's
+/// copies, the grid's lists and the scenario's groups (about 445 bytes per peg measured for a
+/// run of 10^6 pegs).
+pub const BYTES_PER_OBSTACLE: u64 = 512;
+
 /// What a scenario needs, estimated before it is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Estimate {
     /// Discs.
     pub particles: u64,
+    /// Obstacles (each segment of a polyline or box, each peg of a lattice).
+    pub obstacles: u64,
     /// Bytes of memory, about.
     pub bytes: u64,
 }
@@ -502,9 +509,10 @@ impl Limits {
     pub fn check(&self, estimate: &Estimate) -> Result<(), String> {
         if estimate.bytes > self.memory_bytes {
             return Err(format!(
-                "{} particles need about {:.1} GiB, over the limit of {:.1} GiB (half the \
-                 machine's memory by default; raise it with --memory-limit GIB)",
+                "{} particles and {} obstacles need about {:.1} GiB, over the limit of {:.1} \
+                 GiB (half the machine's memory by default; raise it with --memory-limit GIB)",
                 estimate.particles,
+                estimate.obstacles,
                 estimate.bytes as f64 / (1u64 << 30) as f64,
                 self.memory_bytes as f64 / (1u64 << 30) as f64
             ));
@@ -736,9 +744,17 @@ impl Scenario {
     /// What running the scenario needs, estimated before placing a disc.
     pub fn estimate(&self) -> Option<Estimate> {
         let particles = self.particle_count()?;
+        let obstacles = self
+            .obstacle
+            .iter()
+            .map(|o| o.get_ref().count())
+            .fold(0u64, u64::saturating_add);
         Some(Estimate {
             particles,
-            bytes: particles.saturating_mul(BYTES_PER_PARTICLE),
+            obstacles,
+            bytes: particles
+                .saturating_mul(BYTES_PER_PARTICLE)
+                .saturating_add(obstacles.saturating_mul(BYTES_PER_OBSTACLE)),
         })
     }
 

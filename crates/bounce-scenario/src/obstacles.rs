@@ -187,6 +187,22 @@ impl ObstacleSpec {
         out
     }
 
+    /// How many obstacles the table makes, counted without making them.
+    pub fn count(&self) -> u64 {
+        if self.segment.is_some() || self.peg.is_some() {
+            1
+        } else if let Some(points) = &self.polyline {
+            let segments = points.len().saturating_sub(1) as u64;
+            segments + u64::from(self.closed && points.len() > 2)
+        } else if self.rectangle.is_some() {
+            4
+        } else if let Some(pegs) = &self.pegs {
+            (pegs.rows as u64).saturating_mul(pegs.columns as u64)
+        } else {
+            0
+        }
+    }
+
     /// The obstacles this table makes (empty when the table has problems).
     pub fn expand(&self) -> Vec<Obstacle> {
         if !self.problems().is_empty() {

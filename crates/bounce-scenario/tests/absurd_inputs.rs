@@ -41,3 +41,49 @@ fn a_time_step_that_overflows_the_clock_is_refused_naming_it() {
     .unwrap();
     assert!(s.world.time().is_finite() && s.world.time() > 9e300);
 }
+
+#[test]
+fn obstacles_count_in_the_memory_limit() {
+    // Three million pegs (about 1.3 GB in a run) under a 1 GiB limit: refused before the
+    // world is built, the message counting them.
+    let text = r#"
+[world]
+min = [0.0, 0.0]
+max = [40000.0, 40000.0]
+[time]
+dt = 0.01
+steps = 1
+[[disc]]
+position = [0.5, 0.5]
+velocity = [1.0, 0.0]
+radius = 0.2
+[[obstacle]]
+pegs = { origin = [1.0, 1.0], rows = 1500, columns = 2000, spacing = [10.0, 10.0] }
+radius = 0.1
+[[obstacle]]
+polyline = [[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]]
+closed = true
+"#;
+    let scenario = bounce_scenario::parse(text, "p.toml").unwrap();
+    let estimate = scenario.estimate().unwrap();
+    assert_eq!(estimate.obstacles, 3_000_003);
+    let Err(error) = scenario.build_with(text, "p.toml", &bounce_scenario::Limits::memory_gib(1.0))
+    else {
+        panic!("three million pegs were built under a 1 GiB limit");
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains("1 particles and 3000003 obstacles"),
+        "{message}"
+    );
+    // Each table's count is what it makes.
+    let small = text.replace("rows = 1500, columns = 2000", "rows = 3, columns = 5");
+    let scenario = bounce_scenario::parse(&small, "p.toml").unwrap();
+    let made: usize = scenario
+        .obstacle
+        .iter()
+        .map(|o| o.get_ref().expand().len())
+        .sum();
+    assert_eq!(scenario.estimate().unwrap().obstacles, made as u64);
+    assert_eq!(made, 15 + 3);
+}
