@@ -89,7 +89,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let mut output_time = 0.0;
     let mut collisions = 0usize;
     let dt = session.dt;
-    let stepped = session.run_until(total, |world, stats| -> Result<_> {
+    let stepped = session.run_until_stopped(total, &stop, |world, stats| -> Result<_> {
         let t = Instant::now();
         collisions += stats.pairs;
         outputs.stats.totals.add(stats, world, dt);

@@ -168,6 +168,60 @@ fn sigterm_and_sighup_finish_the_step_write_everything_and_exit_128_plus_the_sig
     }
 }
 
+#[test]
+fn sigterm_inside_a_long_step_stops_within_a_second_at_the_last_whole_step() {
+    // Steps of 10,000 substeps of 100,000 discs: about 3 s each. A signal during one stops
+    // the run within about a second, back at the step before, with every file whole
+    // (finishing the step first took the rest of it).
+    let s = Scratch::new();
+    let scenario = s.scenario(
+        "slow.toml",
+        &SMALL
+            .replace("steps = 40", "steps = 1000\nsubsteps = 10000")
+            .replace("max = [40.0, 20.0]", "max = [400.0, 400.0]")
+            .replace("count = 60", "count = 100000")
+            .replace(
+                "region = { min = [15.0, 2.0], max = [40.0, 20.0] }",
+                "region = { min = [15.0, 2.0], max = [400.0, 400.0] }",
+            ),
+    );
+    let out = s.path("out");
+    let child = bounce()
+        .args(["run", "--quiet", "--threads", "1", "--out"])
+        .arg(&out)
+        .arg(&scenario)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Well into the first step (step 0's frame is written before it).
+    let start = Instant::now();
+    let frame0 = out.join("frames/frame_0000000.png");
+    while !frame0.exists() && start.elapsed() < Duration::from_secs(20) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(700));
+    let sent_at = Instant::now();
+    let sent = Command::new("kill")
+        .arg("-TERM")
+        .arg(child.id().to_string())
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let done = wait(child, Duration::from_secs(60), "the signalled run");
+    let took = sent_at.elapsed();
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(143), "{stderr}");
+    assert!(
+        took < Duration::from_secs(2),
+        "stopped {took:?} after the signal"
+    );
+    // Back at a whole step: the checkpoint, the last row and the frames agree.
+    let step = checkpoint_step(&out.join("checkpoint.bin"));
+    assert_eq!(last_row_step(&out.join("stats.csv")), step);
+    assert!(temporaries(&out).is_empty(), "{:?}", temporaries(&out));
+}
+
 /// The `configuration/step` of every frame of a GSD file this bounce wrote (read through the
 /// run's own resume reader would be circular: this parses the index by hand).
 fn gsd_steps(path: &Path) -> Vec<u64> {

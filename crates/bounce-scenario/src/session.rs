@@ -182,6 +182,52 @@ impl Session {
         Ok(true)
     }
 
+    /// [`Session::run_until`] that `stop` (a signal handler's flag: non-zero stops) also ends
+    /// inside a long step: the first step, and any after a step that took over a second,
+    /// start from a copy of the world and may stop between substeps, going back to the
+    /// copy. So a run stops within about a second of the flag wherever it is, at the end of
+    /// a whole step. Returns whether the target was reached.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn run_until_stopped<E: From<StepError>>(
+        &mut self,
+        target: u64,
+        stop: &std::sync::Arc<std::sync::atomic::AtomicUsize>,
+        mut after_step: impl FnMut(&World, &StepStats) -> Result<ControlFlow<()>, E>,
+    ) -> Result<bool, E> {
+        use std::sync::atomic::Ordering;
+        let mut slow = true;
+        while self.world.step_count() < target {
+            if stop.load(Ordering::SeqCst) != 0 {
+                return Ok(false);
+            }
+            let copy = slow
+                .then(|| crate::checkpoint::encode(&self.world, None).ok())
+                .flatten();
+            self.world
+                .set_interrupt(copy.as_ref().map(|_| stop.clone()));
+            let started = std::time::Instant::now();
+            let stepped = self.world.step(self.dt).copied();
+            self.world.set_interrupt(None);
+            let stats = match (stepped, copy) {
+                (Err(StepError::Interrupted { .. }), Some(copy)) => {
+                    let back = crate::checkpoint::decode(&copy, "the copy before the step")
+                        .map_err(|_| StepError::Interrupted {
+                            step: self.world.step_count() + 1,
+                        })?;
+                    self.adopt(back.world);
+                    return Ok(false);
+                }
+                (stepped, _) => stepped?,
+            };
+            slow = started.elapsed().as_secs_f64() > 1.0;
+            self.note_emitted();
+            if after_step(&self.world, &stats)?.is_break() && self.world.step_count() < target {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
     /// Replaces the world with one loaded from a checkpoint, which must be of this scenario:
     /// the same configuration and as many discs. Otherwise says what differs.
     pub fn resume(&mut self, world: World, checkpoint: &str) -> Result<(), String> {

@@ -3,7 +3,8 @@
 //! validated at the edges (`new`, `add_particle`, `set_config`, loading a checkpoint), so the
 //! step itself cannot fail for any state reachable through this API.
 
-use std::sync::OnceLock;
+use std::sync::atomic::AtomicUsize;
+use std::sync::{Arc, OnceLock};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -108,6 +109,10 @@ pub struct World {
     /// A bound on how far discs have moved since the world was made.
     #[serde(skip)]
     travel: Travel,
+    /// A flag another thread (a signal handler) sets non-zero to stop a step between two of
+    /// its substeps (see [`World::set_interrupt`]).
+    #[serde(skip)]
+    interrupt: Option<Arc<AtomicUsize>>,
 }
 
 /// Why a step was refused.
@@ -129,6 +134,14 @@ pub enum StepError {
         dt: f64,
         /// The configured `max_travel`.
         max_travel: f64,
+    },
+    /// The interrupt flag ([`World::set_interrupt`]) was set during a step of several
+    /// substeps: the step stopped between two of them, and the world is left there, part of
+    /// the way through the step. Restore it from a copy taken before the step.
+    #[error("step {step} was interrupted between two of its substeps")]
+    Interrupted {
+        /// The step that was interrupted.
+        step: u64,
     },
     /// The clock would pass what `f64` holds: the time after the step is not finite.
     #[error("time {time} + dt {dt} overflows the clock (dt is too large for the run)")]
@@ -205,6 +218,7 @@ impl World {
             order_radius: 0.0,
             sums: StepSums::default(),
             travel: Travel::default(),
+            interrupt: None,
         })
     }
 
@@ -309,6 +323,14 @@ impl World {
         self.broadphase.invalidate();
         self.refresh_stats();
         Ok(ids)
+    }
+
+    /// A flag that, once another thread (a signal handler) sets it non-zero, stops a step of
+    /// several substeps between two of them with [`StepError::Interrupted`], leaving the
+    /// world part of the way through the step: a front end that sets it keeps a copy of the
+    /// world from before the step to go back to. `None` (the default): steps always finish.
+    pub fn set_interrupt(&mut self, flag: Option<Arc<AtomicUsize>>) {
+        self.interrupt = flag;
     }
 
     /// Runs `threads` worker threads for the step (1 = on the calling thread, the default).

@@ -31,8 +31,17 @@ impl World {
         let emitted = self.emit(dt);
         self.prepare_obstacles();
         let mut done = Substepped::new(substeps, emitted, self.config.obstacles.len());
+        let interrupt = self.interrupt.clone();
+        let step = self.steps + 1;
         let mut stages = Stages::new(self, dt / substeps as f64);
-        for _ in 0..substeps {
+        for substep in 0..substeps {
+            if substep > 0
+                && interrupt
+                    .as_ref()
+                    .is_some_and(|flag| flag.load(std::sync::atomic::Ordering::Relaxed) != 0)
+            {
+                return Err(StepError::Interrupted { step });
+            }
             stages.move_obstacles(&mut done);
             let moved = stages.integrate(&mut done);
             stages.send_back_crossings(&mut done);
