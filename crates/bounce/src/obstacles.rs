@@ -381,9 +381,8 @@ pub(crate) fn resolve_obstacles(
             };
             let start = disc;
             if followed {
-                // The segments the path may cross, in obstacle order (the fixed ones
-                // ascending, then the moving): those listed at either end, or for a path
-                // longer than the grid vouches for, every fixed one.
+                // The segments the path may cross, in obstacle order (fixed ascending, then
+                // moving): those listed at either end, or every fixed one for a long path.
                 let mut meet = |o: u32| {
                     let shape = &obstacles.shapes[o as usize];
                     uncross(shape, from, &mut disc.position, law.reach(disc.radius));

@@ -11,13 +11,14 @@
 //! A [`Sink`] removes every disc whose centre is inside its rectangle at the end of a step.
 //! Ids are never reused: a new disc takes the next id after every id ever given.
 
-use crate::config::{Emitter, EmitterState};
-use crate::law::Law;
-use crate::particles::{Particle, Particles};
 use std::collections::HashMap;
 
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+
+use crate::config::{Emitter, EmitterState};
+use crate::law::Law;
+use crate::particles::{Particle, Particles};
 
 /// Attempts per disc due before a step gives up on it.
 const ATTEMPTS_PER_DISC: u64 = 8;
