@@ -12,7 +12,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
-use std::sync::atomic::AtomicUsize;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
@@ -138,19 +138,34 @@ impl Steer {
     }
 }
 
-/// Stores the number of the first SIGINT, SIGTERM or SIGHUP received: the run finishes its
-/// step, writes everything and exits with 128 + that number. A second signal of the same kind
-/// while the run is finishing does not kill it half-written.
+/// Stores the number of the first SIGINT, SIGTERM or SIGHUP received: the run stops at its
+/// last whole step (within a second, even inside a long step), writes everything and exits
+/// with 128 + that number. A second signal, for a user who will not wait, exits at once: the
+/// files being written are removed, those already complete stay, none is left half-written.
 fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
     let stop = Arc::new(AtomicUsize::new(0));
     #[cfg(unix)]
-    for signal in [
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGHUP,
-    ] {
-        signal_hook::flag::register_usize(signal, stop.clone(), signal as usize)
-            .with_context(|| format!("cannot handle signal {signal}"))?;
+    {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
+            .context("cannot handle signals")?;
+        let first = stop.clone();
+        std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                for signal in signals.forever() {
+                    if first.load(Ordering::SeqCst) == 0 {
+                        first.store(signal as usize, Ordering::SeqCst);
+                    } else {
+                        eprintln!(
+                            "bounce: second signal ({signal}): exiting now; the files being \
+                             written are removed, the last complete ones stay"
+                        );
+                        bounce_scenario::atomic::exit_now(128 + signal);
+                    }
+                }
+            })
+            .context("cannot start the signal thread")?;
     }
     Ok(stop)
 }

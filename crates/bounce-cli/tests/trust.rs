@@ -168,12 +168,9 @@ fn sigterm_and_sighup_finish_the_step_write_everything_and_exit_128_plus_the_sig
     }
 }
 
-#[test]
-fn sigterm_inside_a_long_step_stops_within_a_second_at_the_last_whole_step() {
-    // Steps of 10,000 substeps of 100,000 discs: about 3 s each. A signal during one stops
-    // the run within about a second, back at the step before, with every file whole
-    // (finishing the step first took the rest of it).
-    let s = Scratch::new();
+/// Starts a run of steps of 10,000 substeps of 100,000 discs (about 3 s each) into `out`
+/// and returns once it is well into its first step (step 0's frame is written before it).
+fn slow_run(s: &Scratch, out: &Path) -> Child {
     let scenario = s.scenario(
         "slow.toml",
         &SMALL
@@ -185,29 +182,42 @@ fn sigterm_inside_a_long_step_stops_within_a_second_at_the_last_whole_step() {
                 "region = { min = [15.0, 2.0], max = [400.0, 400.0] }",
             ),
     );
-    let out = s.path("out");
     let child = bounce()
         .args(["run", "--quiet", "--threads", "1", "--out"])
-        .arg(&out)
+        .arg(out)
         .arg(&scenario)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Well into the first step (step 0's frame is written before it).
     let start = Instant::now();
     let frame0 = out.join("frames/frame_0000000.png");
     while !frame0.exists() && start.elapsed() < Duration::from_secs(20) {
         std::thread::sleep(Duration::from_millis(20));
     }
     std::thread::sleep(Duration::from_millis(700));
-    let sent_at = Instant::now();
+    child
+}
+
+fn kill(child: &Child, signal: &str) {
     let sent = Command::new("kill")
-        .arg("-TERM")
+        .arg(format!("-{signal}"))
         .arg(child.id().to_string())
         .status()
         .unwrap();
     assert!(sent.success());
+}
+
+#[test]
+fn sigterm_inside_a_long_step_stops_within_a_second_at_the_last_whole_step() {
+    // Steps of 10,000 substeps of 100,000 discs: about 3 s each. A signal during one stops
+    // the run within about a second, back at the step before, with every file whole
+    // (finishing the step first took the rest of it).
+    let s = Scratch::new();
+    let out = s.path("out");
+    let child = slow_run(&s, &out);
+    let sent_at = Instant::now();
+    kill(&child, "TERM");
     let done = wait(child, Duration::from_secs(60), "the signalled run");
     let took = sent_at.elapsed();
     let stderr = String::from_utf8_lossy(&done.stderr);
@@ -220,6 +230,37 @@ fn sigterm_inside_a_long_step_stops_within_a_second_at_the_last_whole_step() {
     let step = checkpoint_step(&out.join("checkpoint.bin"));
     assert_eq!(last_row_step(&out.join("stats.csv")), step);
     assert!(temporaries(&out).is_empty(), "{:?}", temporaries(&out));
+}
+
+#[test]
+fn a_second_signal_exits_at_once_and_leaves_no_partial_file() {
+    // The first TERM starts the stop (back to the last whole step, then every output written:
+    // a 100,000-disc trajectory frame, plots, an animation); the second, straight after, ends
+    // the process before that is done. The files being written go; none is left half-written.
+    let s = Scratch::new();
+    let out = s.path("out");
+    let child = slow_run(&s, &out);
+    kill(&child, "TERM");
+    std::thread::sleep(Duration::from_millis(30));
+    let sent_at = Instant::now();
+    kill(&child, "INT");
+    let done = wait(child, Duration::from_secs(60), "the twice signalled run");
+    let took = sent_at.elapsed();
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("second signal"), "{stderr}");
+    assert!(took < Duration::from_secs(1), "exited {took:?} after it");
+    assert!(temporaries(&out).is_empty(), "{:?}", temporaries(&out));
+    // What is there is whole: the outputs written as the run ends are absent, not cut.
+    for file in ["stats.csv", "trajectory.gsd", "animation.gif", "plots.png"] {
+        assert!(!out.join(file).exists(), "{file} was written");
+    }
+    let frame = out.join("frames/frame_0000000.png");
+    assert!(
+        tiny_skia::Pixmap::load_png(&frame).is_ok(),
+        "{} is not whole",
+        frame.display()
+    );
 }
 
 /// The `configuration/step` of every frame of a GSD file this bounce wrote (read through the
