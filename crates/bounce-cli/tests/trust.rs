@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{Scratch, bounce, output};
+use common::{Scratch, bounce, gsd_chunks, output};
 
 /// A small walled gas with every output on.
 const SMALL: &str = r##"
@@ -263,29 +263,13 @@ fn a_second_signal_exits_at_once_and_leaves_no_partial_file() {
     );
 }
 
-/// The `configuration/step` of every frame of a GSD file this bounce wrote (read through the
-/// run's own resume reader would be circular: this parses the index by hand).
+/// The `configuration/step` of every frame of a GSD file.
 fn gsd_steps(path: &Path) -> Vec<u64> {
-    let bytes = std::fs::read(path).unwrap();
-    let word = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
-    let (index, allocated, names_at) = (word(8) as usize, word(16) as usize, word(24) as usize);
-    let names: Vec<&[u8]> = bytes[names_at..].split(|&b| b == 0).collect();
-    let step_id = names
-        .iter()
-        .position(|n| *n == b"configuration/step")
-        .unwrap();
-    let mut steps = Vec::new();
-    for k in 0..allocated {
-        let e = &bytes[index + 32 * k..index + 32 * (k + 1)];
-        let location = u64::from_le_bytes(e[16..24].try_into().unwrap()) as usize;
-        if location == 0 {
-            break;
-        }
-        if u16::from_le_bytes(e[28..30].try_into().unwrap()) as usize == step_id {
-            steps.push(word(location));
-        }
-    }
-    steps
+    gsd_chunks(path)
+        .into_iter()
+        .filter(|c| c.name == "configuration/step")
+        .map(|c| u64::from_le_bytes(c.data[..8].try_into().unwrap()))
+        .collect()
 }
 
 fn frame_names(dir: &Path) -> Vec<String> {

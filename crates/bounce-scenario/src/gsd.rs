@@ -27,6 +27,18 @@ use crate::atomic::AtomicFile;
 
 type Result<T> = io::Result<T>;
 
+/// Checks that `values` survive HOOMD's 32-bit floats: a value beyond ±3.4e38 would be
+/// written as an infinity.
+fn fits_f32(step: u64, what: &str, field: &str, values: &[f64]) -> Result<()> {
+    match values.iter().find(|v| !(**v as f32).is_finite()) {
+        None => Ok(()),
+        Some(v) => Err(invalid(format!(
+            "step {step}: {what}: {field} {values:?} holds {v:e}, beyond the 32-bit floats of \
+             a GSD frame (|x| <= 3.4e38)"
+        ))),
+    }
+}
+
 /// An error naming what was wrong.
 fn invalid(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidData, message)
@@ -275,6 +287,16 @@ impl GsdWriter {
             values.flat_map(|v| (v as f32).to_le_bytes()).collect()
         };
         let model = world.config().mass_model;
+        let step = world.step_count();
+        for (id, p) in &by_id {
+            let what = format!("disc {}", id.0);
+            let centred = [p.position[0] - centre[0], p.position[1] - centre[1]];
+            fits_f32(step, &what, "position (from the box's centre)", &centred)?;
+            fits_f32(step, &what, "velocity", &p.velocity)?;
+            let mass = model.mass(p.radius, p.mass.unwrap_or(0.0));
+            fits_f32(step, &what, "diameter and mass", &[2.0 * p.radius, mass])?;
+        }
+        fits_f32(step, "the box", "size", &size)?;
 
         self.chunk(
             "configuration/step",

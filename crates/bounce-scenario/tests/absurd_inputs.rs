@@ -87,3 +87,45 @@ closed = true
     assert_eq!(scenario.estimate().unwrap().obstacles, made as u64);
     assert_eq!(made, 15 + 3);
 }
+
+#[test]
+fn a_collision_distance_whose_square_overflows_is_refused() {
+    // Found by the fuzzer: the cradle at scale 1e308 reached an infinite overlap and a NaN
+    // pressure.
+    let text = SCENARIO
+        .replace("DT", "0.01")
+        .replace("STEPS", "5")
+        .replace("[time]", "collision_radius_scale = 1e308\n[time]");
+    let Err(error) = Session::from_text("a.toml", &text).map(|_| ()) else {
+        panic!("scale 1e308 was accepted");
+    };
+    let error = error.to_string();
+    assert!(
+        error.contains("2 r collision_radius_scale") && error.contains("1e150"),
+        "{error}"
+    );
+    // Open worlds too: a radius of 1e300 reaches beyond any square.
+    let open = "[world]\nboundary = \"open\"\n[time]\ndt = 0.01\nsteps = 5\n\
+                [[disc]]\nposition = [0.0, 0.0]\nradius = 1e300\n";
+    let error = Session::from_text("b.toml", open).map(|_| ()).unwrap_err();
+    assert!(error.to_string().contains("b.toml"), "{error}");
+}
+
+#[test]
+fn a_trajectory_frame_beyond_32_bit_floats_is_an_error_naming_the_disc() {
+    // An open world admits any finite place; HOOMD's frames hold 32-bit floats, so a disc
+    // at 1e39 cannot be written, and saying so beats writing an infinity.
+    let open = "[world]\nboundary = \"open\"\n[time]\ndt = 0.01\nsteps = 5\n\
+                [[disc]]\nposition = [0.0, 0.0]\nradius = 1.0\n\
+                [[disc]]\nposition = [1e39, 0.0]\nradius = 1.0\n";
+    let session = Session::from_text("c.toml", open).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.gsd");
+    let mut gsd =
+        bounce_scenario::gsd::GsdWriter::create(&path, &session.types, &session.typeid).unwrap();
+    let error = gsd.frame(&session.world).unwrap_err().to_string();
+    assert!(
+        error.contains("disc 1") && error.contains("position") && error.contains("32-bit"),
+        "{error}"
+    );
+}

@@ -15,7 +15,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::{Boundary, Config};
-use crate::law::{Law, hold};
+use crate::law::{Law, MAX_INTERACTION_DIAMETER, hold};
 use crate::particles::{Particle, ParticleError};
 
 /// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
@@ -128,7 +128,7 @@ impl Geometry {
     pub(crate) fn admit(&self, position: [f64; 2], r: f64, law: &Law) -> Result<(), ParticleError> {
         let [x, y] = position;
         let outside = match *self {
-            Geometry::Open => return Ok(()),
+            Geometry::Open => false,
             // A periodic box is half-open: `max` is the same place as `min`.
             Geometry::Periodic { min, max, .. } => {
                 !(x >= min[0] && x < max[0] && y >= min[1] && y < max[1])
@@ -164,6 +164,10 @@ impl Geometry {
     /// periodic: its interaction diameter is at most half a side, so only one image of a
     /// neighbour is within reach).
     pub(crate) fn fits_size(&self, r: f64, law: &Law) -> Result<(), ParticleError> {
+        let reach = law.interaction_diameter(r);
+        if !(reach <= MAX_INTERACTION_DIAMETER) {
+            return Err(ParticleError::ReachTooLarge { radius: r, reach });
+        }
         let Some((min, max)) = self.bounds() else {
             return Ok(());
         };
@@ -313,7 +317,7 @@ impl MinImage {
 /// disc was moved back by (its change of image: +1 when it left through the high side).
 #[inline]
 pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) -> i32 {
-    let mut crossed = 0;
+    let mut crossed = 0i32;
     if *x < lo {
         *x += size;
         crossed = -1;
@@ -328,7 +332,9 @@ pub(crate) fn wrap(x: &mut f64, lo: f64, size: f64) -> i32 {
         if *x >= lo + size {
             *x = lo;
         }
-        crossed += widths.clamp(i32::MIN as f64, i32::MAX as f64) as i32;
+        // Image counts wrap past ±2³¹ box widths (only a disc crossing the box billions of
+        // times reaches that), the same in every build.
+        crossed = crossed.wrapping_add(widths.clamp(i32::MIN as f64, i32::MAX as f64) as i32);
     }
     crossed
 }
@@ -354,6 +360,10 @@ mod tests {
         let mut tiny = -1e-17;
         wrap(&mut tiny, 0.0, 10.0);
         assert!((0.0..10.0).contains(&tiny));
+        // Far past i32's box widths: the count saturates without overflowing.
+        let mut far = 1e300;
+        wrap(&mut far, 0.0, 10.0);
+        assert!((0.0..10.0).contains(&far));
     }
 
     #[test]
@@ -383,6 +393,11 @@ mod tests {
         assert!(periodic.admit([10.0, 2.0], 0.5, &law).is_err());
         assert!(periodic.admit([5.0, 2.0], 1.0, &law).is_ok());
         assert!(periodic.admit([5.0, 2.0], 1.01, &law).is_err());
-        assert!(Geometry::Open.admit([1e300, -1e300], 1e300, &law).is_ok());
+        assert!(Geometry::Open.admit([1e300, -1e300], 1e100, &law).is_ok());
+        // A collision distance whose square overflows is refused in any world.
+        assert!(matches!(
+            Geometry::Open.admit([0.0, 0.0], 1e300, &law),
+            Err(ParticleError::ReachTooLarge { .. })
+        ));
     }
 }

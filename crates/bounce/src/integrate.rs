@@ -93,8 +93,8 @@ pub(crate) fn integrate(
             None,
             #[inline(always)]
             move |_, [x, y, _, _], image, _| {
-                image[0] += wrap(x, min[0], size[0]);
-                image[1] += wrap(y, min[1], size[1]);
+                image[0] = image[0].wrapping_add(wrap(x, min[0], size[0]));
+                image[1] = image[1].wrapping_add(wrap(y, min[1], size[1]));
             },
         ),
         Geometry::Walls {

@@ -84,6 +84,19 @@ pub enum ParticleError {
         /// The rule that is broken.
         rule: &'static str,
     },
+    /// The disc's collision distance with its like, `2 r collision_radius_scale`, exceeds
+    /// [`MAX_INTERACTION_DIAMETER`](crate::law::MAX_INTERACTION_DIAMETER): squared (as the
+    /// detection rule compares squares) it would overflow `f64`.
+    #[error(
+        "radius {radius} reaches {reach} (2 r collision_radius_scale), beyond 1e150: \
+         the collision test squares it, which would overflow f64"
+    )]
+    ReachTooLarge {
+        /// The refused radius.
+        radius: f64,
+        /// `2 r collision_radius_scale`.
+        reach: f64,
+    },
     /// No particle has this id.
     #[error("no particle has id {}", .0.0)]
     UnknownId(ParticleId),

@@ -192,8 +192,8 @@ fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
                 impulse.add([left, right, bottom, top]);
             }
             Geometry::Periodic { min, size, .. } => {
-                p.image[i][0] += wrap(&mut p.x[i], min[0], size[0]);
-                p.image[i][1] += wrap(&mut p.y[i], min[1], size[1]);
+                p.image[i][0] = p.image[i][0].wrapping_add(wrap(&mut p.x[i], min[0], size[0]));
+                p.image[i][1] = p.image[i][1].wrapping_add(wrap(&mut p.y[i], min[1], size[1]));
             }
         }
     }

@@ -26,6 +26,11 @@ pub(crate) use wall::{hold, reflect, touch_walls};
 /// pushes the first disc of the pair to the right.
 pub const COINCIDENT_NORMAL: [f64; 2] = [1.0, 0.0];
 
+/// The largest collision distance a disc may have with its like, `2 r collision_radius_scale`:
+/// the detection rule compares squared distances, and `1e150²` is still far inside `f64`
+/// (its largest is about `1.8e308`), with room for the sums of two such reaches.
+pub const MAX_INTERACTION_DIAMETER: f64 = 1e150;
+
 /// The collision law of a world: the seed's parameters and the model options, taken from
 /// [`Config`] once ([`Law::new`]).
 ///
