@@ -297,7 +297,8 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         }),
         Command::Check { scenario, steer } => {
             let (text, origin, limits) = steer.apply(&scenario)?;
-            let session = bounce_scenario::Session::from_text_with(&origin, &text, &limits)?;
+            let session =
+                bounce_scenario::Session::from_text_in(&origin, &text, &limits, scenario.parent())?;
             println!(
                 "{}: ok: {} particles, {} steps of dt {}, {:?} boundary",
                 session.origin,

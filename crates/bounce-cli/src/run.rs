@@ -210,7 +210,12 @@ impl Report<'_> {
 /// The run's scenario (resumed from `--resume`'s checkpoint, with the totals it kept, when
 /// given) and the step the run ends at; refused when there is nothing to do.
 pub(crate) fn load_session(args: &RunArgs) -> Result<(Session, Option<RunState>, u64)> {
-    let mut session = Session::from_text_with(&args.origin, &args.text, &args.limits)?;
+    let mut session = Session::from_text_in(
+        &args.origin,
+        &args.text,
+        &args.limits,
+        args.scenario.parent(),
+    )?;
     let mut run_state = None;
     if let Some(path) = &args.resume {
         let loaded = checkpoint::load(path)?;

@@ -89,17 +89,17 @@ impl Type {
 }
 
 /// An index entry as read from a file.
-struct RawEntry {
-    frame: u64,
-    n: u64,
-    location: u64,
-    m: u32,
-    id: u16,
-    kind: u8,
+pub(crate) struct RawEntry {
+    pub frame: u64,
+    pub n: u64,
+    pub location: u64,
+    pub m: u32,
+    pub id: u16,
+    pub kind: u8,
 }
 
 /// `len` bytes at `at` (bounded: a GSD chunk of this writer is one array of one frame).
-fn read_at(file: &mut std::fs::File, at: u64, len: u64) -> Result<Vec<u8>> {
+pub(crate) fn read_at(file: &mut std::fs::File, at: u64, len: u64) -> Result<Vec<u8>> {
     use std::io::Read;
     let size = file.metadata()?.len();
     if at.checked_add(len).is_none_or(|end| end > size) {
@@ -112,7 +112,7 @@ fn read_at(file: &mut std::fs::File, at: u64, len: u64) -> Result<Vec<u8>> {
 }
 
 /// The name list and the index entries of a GSD file written by [`GsdWriter`].
-fn read_layout(file: &mut std::fs::File) -> Result<(Vec<String>, Vec<RawEntry>)> {
+pub(crate) fn read_layout(file: &mut std::fs::File) -> Result<(Vec<String>, Vec<RawEntry>)> {
     let header = read_at(file, 0, HEADER_SIZE)?;
     let word = |at: usize| u64::from_le_bytes(header[at..at + 8].try_into().expect("8"));
     if word(0) != MAGIC {

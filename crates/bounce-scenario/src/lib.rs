@@ -28,6 +28,8 @@ pub use obstacles::{ObstacleGroup, ObstacleSpec};
 pub mod gsd;
 pub mod palette;
 mod session;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod start;
 pub use colour::{Rgb, parse_colour, ramp};
 pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
@@ -81,6 +83,13 @@ pub struct Scenario {
     /// Single discs.
     #[serde(default)]
     pub disc: Vec<Spanned<DiscSpec>>,
+    /// Discs from a file: a GSD frame or a CSV table.
+    #[serde(default)]
+    pub file: Vec<Spanned<FileSpec>>,
+    /// The folder `[[file]]` paths are relative to (the scenario file's; `None`: the current
+    /// folder).
+    #[serde(skip)]
+    pub dir: Option<std::path::PathBuf>,
     /// Segments, polylines, boxes and pegs, fixed or moving.
     #[serde(default)]
     pub obstacle: Vec<Spanned<ObstacleSpec>>,
@@ -315,6 +324,42 @@ pub struct DiscSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+}
+
+/// Discs read from a file ([`start`]), in file order, with their types.
+#[derive(Clone, Debug, Default)]
+pub struct FileDiscs {
+    /// The discs (a `mass` only where the file gives one).
+    pub discs: Vec<Particle>,
+    /// Each disc's index into `types`.
+    pub typeid: Vec<u32>,
+    /// The type names the file uses.
+    pub types: Vec<String>,
+}
+
+/// `[[file]]`: the discs of a file, as [`start`] reads them: a frame of a GSD trajectory
+/// (positions, velocities, diameters, masses, types; the box must have the world's size) or
+/// a CSV table with the columns `x, y, radius` and optionally `vx, vy, mass, type`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileSpec {
+    /// The file, relative to the scenario file's folder; `.csv` is a table, anything else a
+    /// GSD trajectory.
+    pub path: String,
+    /// The GSD frame (negative counts from the end); default -1, the last.
+    #[serde(default = "last_frame")]
+    pub frame: i64,
+    /// Colour of these discs.
+    #[serde(default)]
+    pub color: Option<String>,
+    /// One particle type for every disc; default the file's own types (GSD
+    /// `particles/types`, a CSV `type` column), else `A`.
+    #[serde(default, rename = "type")]
+    pub kind: Option<String>,
+}
+
+fn last_frame() -> i64 {
+    -1
 }
 
 /// `[[emitter]]`: discs added during the run in a region, at a rate.
@@ -725,6 +770,10 @@ impl Scenario {
         let law = Law::new(&self.config());
         let product = |[x, y]: [usize; 2]| (x as u64).checked_mul(y as u64);
         let mut total = self.disc.len() as u64;
+        for f in &self.file {
+            // A file that cannot be read counts nothing here; building it says why.
+            total = total.checked_add(self.file_count(f.get_ref()).unwrap_or(0))?;
+        }
         for n in self
             .gas
             .iter()
@@ -739,6 +788,64 @@ impl Scenario {
             total = total.checked_add(n?)?;
         }
         Some(total)
+    }
+
+    /// Where a `[[file]]` table's file is.
+    pub fn file_path(&self, spec: &FileSpec) -> std::path::PathBuf {
+        match &self.dir {
+            Some(dir) => dir.join(&spec.path),
+            None => std::path::PathBuf::from(&spec.path),
+        }
+    }
+
+    /// The discs of a `[[file]]` table, placed in the world's box.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn read_file(&self, spec: &FileSpec, config: &bounce::Config) -> Result<FileDiscs, String> {
+        let frame = match config.boundary.bounds() {
+            Some((min, max)) => start::Frame {
+                centre: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+                size: Some([max[0] - min[0], max[1] - min[1]]),
+            },
+            None => start::Frame {
+                centre: [0.0, 0.0],
+                size: None,
+            },
+        };
+        let mut read = start::read(&self.file_path(spec), spec.frame, frame)?;
+        // A centre a 32-bit float rounded onto a periodic box's far edge is its near edge.
+        if let bounce::Boundary::Periodic { min, max } = config.boundary {
+            for disc in &mut read.discs {
+                for k in 0..2 {
+                    let size = max[k] - min[k];
+                    let x = &mut disc.position[k];
+                    if x.is_finite() && !(*x >= min[k] && *x < max[k]) {
+                        *x = min[k] + (*x - min[k]).rem_euclid(size);
+                        if *x >= max[k] {
+                            *x = min[k];
+                        }
+                    }
+                }
+            }
+        }
+        Ok(read)
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    fn read_file(&self, spec: &FileSpec, _: &bounce::Config) -> Result<FileDiscs, String> {
+        Err(format!(
+            "{}: the web page cannot read files; paste the discs as [[disc]] tables",
+            spec.path
+        ))
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    fn file_count(&self, spec: &FileSpec) -> Option<u64> {
+        start::count(&self.file_path(spec), spec.frame)
+    }
+
+    #[cfg(target_arch = "wasm32")]
+    fn file_count(&self, _: &FileSpec) -> Option<u64> {
+        None
     }
 
     /// What running the scenario needs, estimated before placing a disc.
@@ -764,6 +871,7 @@ impl Scenario {
             || self.lattice.iter().any(|g| g.get_ref().color.is_some())
             || self.block.iter().any(|g| g.get_ref().color.is_some())
             || self.disc.iter().any(|g| g.get_ref().color.is_some())
+            || self.file.iter().any(|g| g.get_ref().color.is_some())
     }
 
     /// For a config problem of an obstacle, emitter or sink (`WHAT K: ...`, K its index in
@@ -950,10 +1058,10 @@ impl Scenario {
                 None,
                 "the scenario asks for more particles than 2^64 (a count overflows)".into(),
             );
-        } else if count == Some(0) && self.emitter.is_empty() {
+        } else if count == Some(0) && self.emitter.is_empty() && self.file.is_empty() {
             at(
                 None,
-                "the scenario has no particles: add [[gas]], [[lattice]], [[block]], [[disc]] \
+                "the scenario has no particles: add [[gas]], [[lattice]], [[block]], [[disc]], [[file]] \
                  or [[emitter]]"
                     .into(),
             );
@@ -1010,27 +1118,38 @@ impl Scenario {
         let mut tables: Vec<(usize, String, usize)> = Vec::new();
         let mut types: Vec<String> = Vec::new();
         let mut typeid: Vec<u32> = Vec::new();
+        // `own_types`: a file's own type for each disc (names and each disc's index).
         let mut add = |discs: Vec<Particle>,
                        (colour, kind): (&Option<String>, &Option<String>),
                        line: usize,
                        what: String,
-                       placed: &mut Vec<Particle>| {
+                       placed: &mut Vec<Particle>,
+                       own_types: Option<(&[String], &[u32])>| {
             let rgb = colour
                 .as_deref()
                 .map(|c| parse_colour(c).expect("checked in problems"));
             let n = discs.len();
-            let name = kind
-                .clone()
-                .or_else(|| colour.clone())
-                .unwrap_or_else(|| "A".into());
-            let t = match types.iter().position(|t| *t == name) {
-                Some(t) => t,
+            let mut type_of = |name: String| match types.iter().position(|t| *t == name) {
+                Some(t) => t as u32,
                 None => {
                     types.push(name);
-                    types.len() - 1
+                    types.len() as u32 - 1
                 }
             };
-            typeid.extend(std::iter::repeat_n(t as u32, n));
+            match (own_types, kind) {
+                (Some((names, ids)), None) => {
+                    let map: Vec<u32> = names.iter().map(|n| type_of(n.clone())).collect();
+                    typeid.extend(ids.iter().map(|&t| map[t as usize]));
+                }
+                _ => {
+                    let name = kind
+                        .clone()
+                        .or_else(|| colour.clone())
+                        .unwrap_or_else(|| "A".into());
+                    let t = type_of(name);
+                    typeid.extend(std::iter::repeat_n(t, n));
+                }
+            }
             tables.push((placed.len(), what, line));
             placed.extend_from_slice(&discs);
             colours.extend(std::iter::repeat_n(rgb, n));
@@ -1061,6 +1180,12 @@ impl Scenario {
                 .iter()
                 .enumerate()
                 .map(|(k, g)| (g.span().start, Entry::Disc(k))),
+        );
+        entries.extend(
+            self.file
+                .iter()
+                .enumerate()
+                .map(|(k, g)| (g.span().start, Entry::File(k))),
         );
         entries.sort_by_key(|&(start, _)| start);
         for (start, entry) in entries {
@@ -1096,6 +1221,7 @@ impl Scenario {
                         line,
                         format!("gas #{}", k + 1),
                         &mut placed,
+                        None,
                     )?;
                 }
                 Entry::Lattice(k) => {
@@ -1113,6 +1239,7 @@ impl Scenario {
                         line,
                         format!("lattice #{}", k + 1),
                         &mut placed,
+                        None,
                     )?;
                 }
                 Entry::Block(k) => {
@@ -1132,6 +1259,21 @@ impl Scenario {
                         line,
                         format!("block #{}", k + 1),
                         &mut placed,
+                        None,
+                    )?;
+                }
+                Entry::File(k) => {
+                    let spec = self.file[k].get_ref();
+                    let read = self
+                        .read_file(spec, &config)
+                        .map_err(|e| fail(Some(line), format!("file #{}: {e}", k + 1)))?;
+                    add(
+                        read.discs,
+                        (&spec.color, &spec.kind),
+                        line,
+                        format!("file #{} ({})", k + 1, spec.path),
+                        &mut placed,
+                        Some((&read.types, &read.typeid)),
                     )?;
                 }
                 Entry::Disc(k) => {
@@ -1148,6 +1290,7 @@ impl Scenario {
                         line,
                         format!("disc #{}", k + 1),
                         &mut placed,
+                        None,
                     )?;
                 }
             }
@@ -1228,6 +1371,10 @@ fn overlapping(world: &World, tables: &[(usize, String, usize)]) -> Vec<Problem>
             continue;
         }
         let (ta, tb) = (table_of(a.0), table_of(b.0));
+        // A file holds the overlaps of the run that wrote it; the first step resolves them.
+        if ta.0 == tb.0 && ta.1.starts_with("file") {
+            continue;
+        }
         if !seen.insert((ta.0, tb.0)) {
             continue;
         }
@@ -1261,6 +1408,7 @@ enum Entry {
     Lattice(usize),
     Block(usize),
     Disc(usize),
+    File(usize),
 }
 
 fn block_spacing(block: &BlockSpec, law: &Law) -> f64 {

@@ -57,13 +57,26 @@ impl Session {
         Session::from_text_with(origin, text, &Limits::default())
     }
 
-    /// A session from scenario text within `limits`.
+    /// A session from scenario text within `limits`; `[[file]]` paths are relative to the
+    /// current folder.
     pub fn from_text_with(
         origin: &str,
         text: &str,
         limits: &Limits,
     ) -> Result<Session, ScenarioError> {
-        let scenario = crate::parse(text, origin)?;
+        Session::from_text_in(origin, text, limits, None)
+    }
+
+    /// A session from scenario text within `limits`, its `[[file]]` paths relative to `dir`
+    /// (the scenario file's folder).
+    pub fn from_text_in(
+        origin: &str,
+        text: &str,
+        limits: &Limits,
+        dir: Option<&Path>,
+    ) -> Result<Session, ScenarioError> {
+        let mut scenario = crate::parse(text, origin)?;
+        scenario.dir = dir.map(Path::to_path_buf);
         let built = scenario.build_with(text, origin, limits)?;
         let colour_by = scenario
             .output
@@ -102,7 +115,7 @@ impl Session {
                 message: format!("cannot read the file: {e}"),
             }],
         })?;
-        Session::from_text(&origin, &text)
+        Session::from_text_in(&origin, &text, &Limits::default(), path.parent())
     }
 
     /// The colour of each obstacle, in `Config::obstacles` order: its table's `color`, else
@@ -135,7 +148,12 @@ impl Session {
     /// kept.
     pub fn reset(&mut self) -> Result<(), ScenarioError> {
         let threads = self.world.threads();
-        let fresh = Session::from_text(&self.origin, &self.text)?;
+        let fresh = Session::from_text_in(
+            &self.origin,
+            &self.text,
+            &Limits::default(),
+            self.scenario.dir.as_deref(),
+        )?;
         *self = fresh;
         // A thread pool that started once starts again.
         let _ = self.world.set_threads(threads);

@@ -77,6 +77,12 @@ struct HeadlessState {
 /// Where a headless run leaves its result for [`crate::run`].
 pub type Outcome = Arc<Mutex<Result<(), String>>>;
 
+/// A session of scenario text named by its path: `[[file]]` tables are read beside it.
+fn open_session(name: &str, text: &str) -> Result<Session, bounce_scenario::ScenarioError> {
+    let dir = std::path::Path::new(name).parent();
+    Session::from_text_in(name, text, &bounce_scenario::Limits::default(), dir)
+}
+
 impl ViewerApp {
     /// The app for a scenario (or the built-in demo).
     pub fn new(
@@ -84,7 +90,7 @@ impl ViewerApp {
         headless: Option<(Headless, Outcome)>,
     ) -> Result<Self, String> {
         let (name, text) = scenario.unwrap_or_else(|| ("built-in demo".into(), DEMO.into()));
-        let session = Session::from_text(&name, &text).map_err(|e| e.to_string())?;
+        let session = open_session(&name, &text).map_err(|e| e.to_string())?;
         let colour_by = session.colour_by;
         let palette = Palette::for_world(&session.world, colour_by, session.colours.clone());
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -144,7 +150,7 @@ impl ViewerApp {
 
     /// Replaces the simulation with a scenario text.
     fn open(&mut self, name: String, text: String) {
-        match Session::from_text(&name, &text) {
+        match open_session(&name, &text) {
             Ok(session) => {
                 let threads = self.session.world.threads();
                 self.session = session;

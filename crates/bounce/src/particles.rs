@@ -123,7 +123,7 @@ pub enum ParticleError {
 
 impl Particle {
     /// Checks that every value is finite and radius and mass are positive.
-    pub(crate) fn validate_values(&self) -> Result<(), ParticleError> {
+    pub fn validate_values(&self) -> Result<(), ParticleError> {
         let [x, y] = self.position;
         if !(x.is_finite() && y.is_finite()) {
             return Err(ParticleError::NonFinitePosition(self.position));

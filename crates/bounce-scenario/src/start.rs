@@ -1,0 +1,327 @@
+//! Discs from a file: a frame of a GSD trajectory or a CSV table, for a scenario's `[[file]]`
+//! tables and the Python package's `World.add_file`.
+//!
+//! - **GSD** (HOOMD-blue's `hoomd` schema, as bounce, HOOMD and the `gsd` package write it):
+//!   `particles/position`, `velocity`, `diameter`, `mass`, `typeid` and `types`, and
+//!   `configuration/box`, of one frame. As in HOOMD's `create_state_from_gsd`, a chunk a frame
+//!   lacks is taken from frame 0, and one frame 0 lacks from the schema's default (velocity 0,
+//!   diameter 1, mass 1, type 0 of `["A"]`). Positions are relative to the box centre: they
+//!   are placed around the world's box centre (the origin in an open world), and the file's
+//!   box must have the world's size (a triclinic box is refused).
+//! - **CSV**: a header naming the columns, in any order: `x`, `y` and `radius` required,
+//!   `vx`, `vy` (default 0), `mass` and `type` optional; one disc a row.
+//!
+//! Both are read in one pass, O(N): a million discs in about a second. Every value is checked
+//! (finite numbers, a radius and mass > 0); the world then admits the discs as it does any
+//! scenario's, so a file and a table fail alike, naming the file and the disc.
+
+use std::path::Path;
+
+use bounce::Particle;
+
+pub use crate::FileDiscs;
+use crate::gsd::{RawEntry, read_at, read_layout};
+
+/// Where the world's box is: its centre and size (`None` in an open world).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// The box centre discs are placed around (the origin in an open world).
+    pub centre: [f64; 2],
+    /// The box's size, which a GSD file's box must match (`None`: an open world, any box).
+    pub size: Option<[f64; 2]>,
+}
+
+/// Reads the discs of `path`: a GSD file's frame `frame` (negative counts from the end: -1 is
+/// the last) or a CSV table (by the extension `.csv`). Errors name the file and what is wrong.
+pub fn read(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> {
+    let name = path.display().to_string();
+    let is_csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let read = if is_csv {
+        read_csv(path)
+    } else {
+        read_gsd(path, frame, world)
+    };
+    read.map_err(|e| format!("{name}: {e}"))
+}
+
+/// How many discs `path` holds, without reading them all (GSD: the frame's `particles/N`;
+/// CSV: its rows), for the memory estimate. `None` when the file cannot be read (the build
+/// then names the problem).
+pub fn count(path: &Path, frame: i64) -> Option<u64> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+    {
+        use std::io::BufRead;
+        let file = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+        let rows = file.split(b'\n').filter(|l| l.is_ok()).count() as u64;
+        return Some(rows.saturating_sub(1));
+    }
+    let mut file = std::fs::File::open(path).ok()?;
+    let (names, entries) = read_layout(&mut file).ok()?;
+    let chosen = choose_frame(&entries, frame).ok()?;
+    let chunk = find(&names, &entries, "particles/N", chosen)?;
+    let bytes = read_at(&mut file, chunk.location, 4).ok()?;
+    Some(u32::from_le_bytes(bytes.try_into().ok()?) as u64)
+}
+
+/// The frame index `frame` names (negative: from the end).
+fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, String> {
+    let frames = entries.iter().map(|e| e.frame + 1).max().unwrap_or(0);
+    let chosen = if frame < 0 {
+        frames as i64 + frame
+    } else {
+        frame
+    };
+    if frames == 0 {
+        return Err("the file holds no frame".into());
+    }
+    if !(0..frames as i64).contains(&chosen) {
+        return Err(format!(
+            "frame = {frame}: the file holds frames 0..{} (or -{frames}..-1 from the end)",
+            frames - 1
+        ));
+    }
+    Ok(chosen as u64)
+}
+
+/// The entry of chunk `name` in frame `frame`, else in frame 0 (the schema's rule).
+fn find<'a>(
+    names: &[String],
+    entries: &'a [RawEntry],
+    name: &str,
+    frame: u64,
+) -> Option<&'a RawEntry> {
+    let id = names.iter().position(|n| n == name)? as u16;
+    let in_frame = |f: u64| entries.iter().find(|e| e.id == id && e.frame == f);
+    in_frame(frame).or_else(|| in_frame(0))
+}
+
+/// A chunk's values as `f64`, `m` per row, checking its shape.
+fn floats(
+    file: &mut std::fs::File,
+    chunk: &RawEntry,
+    name: &str,
+    n: u64,
+    m: u32,
+) -> Result<Vec<f64>, String> {
+    if chunk.n != n || chunk.m < m {
+        return Err(format!(
+            "{name} is {} × {}, expected {n} × {m} (particles/N = {n})",
+            chunk.n, chunk.m
+        ));
+    }
+    let width = match chunk.kind {
+        9 => 4,
+        10 => 8,
+        k => {
+            return Err(format!(
+                "{name} has GSD type {k}; expected float32 or float64"
+            ));
+        }
+    };
+    let bytes = read_at(file, chunk.location, n * chunk.m as u64 * width)
+        .map_err(|e| format!("{name}: {e}"))?;
+    let row = chunk.m as usize * width as usize;
+    let mut out = Vec::with_capacity(n as usize * m as usize);
+    for r in bytes.chunks_exact(row) {
+        for k in 0..m as usize {
+            let at = k * width as usize;
+            out.push(if width == 4 {
+                f32::from_le_bytes(r[at..at + 4].try_into().expect("4")) as f64
+            } else {
+                f64::from_le_bytes(r[at..at + 8].try_into().expect("8"))
+            });
+        }
+    }
+    Ok(out)
+}
+
+fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> {
+    let mut file = std::fs::File::open(path).map_err(|e| format!("cannot read it: {e}"))?;
+    let (names, entries) = read_layout(&mut file).map_err(|e| format!("not a GSD 2 file: {e}"))?;
+    let at = choose_frame(&entries, frame)?;
+    let chunk = |name: &str| find(&names, &entries, name, at);
+    let n = match chunk("particles/N") {
+        Some(c) => {
+            let bytes = read_at(&mut file, c.location, 4).map_err(|e| e.to_string())?;
+            u32::from_le_bytes(bytes.try_into().expect("4")) as u64
+        }
+        None => 0,
+    };
+    if n == 0 {
+        return Err(format!(
+            "frame {at} holds no particles (particles/N is 0 or absent)"
+        ));
+    }
+    let position = match chunk("particles/position") {
+        Some(c) => floats(&mut file, c, "particles/position", n, 2)?,
+        None => return Err(format!("frame {at} has no particles/position")),
+    };
+    let mut optional = |name: &str, m: u32, default: f64| match chunk(name) {
+        Some(c) => floats(&mut file, c, name, n, m),
+        None => Ok(vec![default; n as usize * m as usize]),
+    };
+    let velocity = optional("particles/velocity", 2, 0.0)?;
+    let diameter = optional("particles/diameter", 1, 1.0)?;
+    // Without a mass chunk the discs take the mass model's own (not the schema's 1).
+    let mass = match chunk("particles/mass") {
+        Some(c) => Some(floats(&mut file, c, "particles/mass", n, 1)?),
+        None => None,
+    };
+    let bx = match chunk("configuration/box") {
+        Some(c) => floats(&mut file, c, "configuration/box", 6, 1)?,
+        None => vec![1.0, 1.0, 1.0, 0.0, 0.0, 0.0],
+    };
+    if let Some(size) = world.size {
+        let (lx, ly) = (bx[0], bx[1]);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs());
+        if !(close(lx, size[0]) && close(ly, size[1])) {
+            return Err(format!(
+                "its box is {lx} × {ly}, the world's is {} × {}: positions are relative to \
+                 the box centre, so the sizes must agree",
+                size[0], size[1]
+            ));
+        }
+    }
+    if bx.len() >= 4 && bx[3] != 0.0 {
+        return Err(format!(
+            "its box is triclinic (tilt xy = {}); bounce's boxes are rectangles",
+            bx[3]
+        ));
+    }
+    let typeid = match chunk("particles/typeid") {
+        Some(c) if c.kind == 3 && c.n == n => {
+            let bytes = read_at(&mut file, c.location, n * 4).map_err(|e| e.to_string())?;
+            bytes
+                .chunks_exact(4)
+                .map(|b| u32::from_le_bytes(b.try_into().expect("4")))
+                .collect()
+        }
+        Some(_) => return Err("particles/typeid is not N uint32 values".into()),
+        None => vec![0; n as usize],
+    };
+    let types = match chunk("particles/types") {
+        Some(c) if c.kind == 5 || c.kind == 1 => {
+            let bytes =
+                read_at(&mut file, c.location, c.n * c.m as u64).map_err(|e| e.to_string())?;
+            bytes
+                .chunks_exact(c.m.max(1) as usize)
+                .map(|row| {
+                    let end = row.iter().position(|&b| b == 0).unwrap_or(row.len());
+                    String::from_utf8_lossy(&row[..end]).into_owned()
+                })
+                .collect()
+        }
+        Some(_) => return Err("particles/types is not rows of characters".into()),
+        None => vec!["A".to_string()],
+    };
+    if let Some((k, t)) = typeid
+        .iter()
+        .enumerate()
+        .find(|(_, t)| **t as usize >= types.len())
+    {
+        return Err(format!(
+            "particle {k}: typeid {t} names no type ({} types)",
+            types.len()
+        ));
+    }
+    let discs = (0..n as usize)
+        .map(|k| Particle {
+            position: [
+                world.centre[0] + position[2 * k],
+                world.centre[1] + position[2 * k + 1],
+            ],
+            velocity: [velocity[2 * k], velocity[2 * k + 1]],
+            radius: diameter[k] / 2.0,
+            mass: mass.as_ref().map(|m| m[k]),
+        })
+        .collect();
+    Ok(FileDiscs {
+        discs,
+        typeid,
+        types,
+    })
+}
+
+/// The CSV columns bounce reads.
+const CSV_COLUMNS: [&str; 7] = ["x", "y", "vx", "vy", "radius", "mass", "type"];
+
+fn read_csv(path: &Path) -> Result<FileDiscs, String> {
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .map_err(|e| format!("cannot read it: {e}"))?;
+    let header = reader.headers().map_err(|e| e.to_string())?.clone();
+    let mut column = [None; CSV_COLUMNS.len()];
+    for (k, name) in header.iter().enumerate() {
+        match CSV_COLUMNS.iter().position(|c| *c == name) {
+            Some(c) if column[c].is_some() => return Err(format!("column {name} appears twice")),
+            Some(c) => column[c] = Some(k),
+            None => {
+                return Err(format!(
+                    "line 1: unknown column {name:?}; the columns are {}",
+                    CSV_COLUMNS.join(", ")
+                ));
+            }
+        }
+    }
+    for required in ["x", "y", "radius"] {
+        let c = CSV_COLUMNS
+            .iter()
+            .position(|c| *c == required)
+            .expect("listed");
+        if column[c].is_none() {
+            return Err(format!(
+                "line 1: no column {required} (the header needs x, y and radius)"
+            ));
+        }
+    }
+    let mut out = FileDiscs::default();
+    let mut record = csv::StringRecord::new();
+    let mut line = 1;
+    while reader.read_record(&mut record).map_err(|e| e.to_string())? {
+        line += 1;
+        let number = |c: usize, default: Option<f64>| -> Result<f64, String> {
+            let text = column[c].and_then(|k| record.get(k)).unwrap_or("");
+            match (text.parse::<f64>(), default) {
+                (Ok(v), _) => Ok(v),
+                (Err(_), Some(d)) if text.is_empty() => Ok(d),
+                _ => Err(format!(
+                    "line {line}: {} = {text:?} is not a number",
+                    CSV_COLUMNS[c]
+                )),
+            }
+        };
+        let disc = Particle {
+            position: [number(0, None)?, number(1, None)?],
+            velocity: [number(2, Some(0.0))?, number(3, Some(0.0))?],
+            radius: number(4, None)?,
+            mass: match column[5].and_then(|k| record.get(k)) {
+                None | Some("") => None,
+                Some(_) => Some(number(5, None)?),
+            },
+        };
+        disc.validate_values()
+            .map_err(|e| format!("line {line}: {e}"))?;
+        let kind = match column[6] {
+            Some(k) => record.get(k).unwrap_or("").to_string(),
+            None => "A".to_string(),
+        };
+        let t = match out.types.iter().position(|t| *t == kind) {
+            Some(t) => t,
+            None => {
+                out.types.push(kind);
+                out.types.len() - 1
+            }
+        };
+        out.discs.push(disc);
+        out.typeid.push(t as u32);
+    }
+    if out.discs.is_empty() {
+        return Err("the table has no rows".into());
+    }
+    Ok(out)
+}
