@@ -293,6 +293,50 @@ impl World {
         Ok(Array1::from_iter(ids.iter().map(|id| id.0)).into_pyarray(py))
     }
 
+    /// Adds the discs of a file, as a scenario's ``[[file]]`` table does: a GSD frame
+    /// (``frame``, negative from the end; positions around the box centre, the file's box
+    /// the world's size) or a CSV table with the columns ``x, y, radius`` and optionally
+    /// ``vx, vy, mass, type``. The file's types go into GSD files this world writes. All or
+    /// nothing: a bad file or disc raises ``ValueError`` naming the file and the line or
+    /// particle, and the world is unchanged. Returns the new ids.
+    #[pyo3(signature = (path, frame = -1))]
+    fn add_file<'py>(
+        &mut self,
+        py: Python<'py>,
+        path: PathBuf,
+        frame: i64,
+    ) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        self.check_unlocked()?;
+        let boundary = self.get().config().boundary.clone();
+        let read = py
+            .detach(|| bounce_scenario::start::read_for(&path, frame, &boundary))
+            .map_err(PyValueError::new_err)?;
+        let name = path.display().to_string();
+        let ids = self
+            .get_mut()
+            .add_particles(read.discs)
+            .map_err(|(k, e)| PyValueError::new_err(format!("{name}: particle {k}: {e}")))?;
+        let map: Vec<u32> = read
+            .types
+            .into_iter()
+            .map(|t| match self.types.iter().position(|s| *s == t) {
+                Some(k) => k as u32,
+                None => {
+                    self.types.push(t);
+                    self.types.len() as u32 - 1
+                }
+            })
+            .collect();
+        for (id, t) in ids.iter().zip(&read.typeid) {
+            let id = id.0 as usize;
+            if self.typeid.len() <= id {
+                self.typeid.resize(id + 1, 0);
+            }
+            self.typeid[id] = map[*t as usize];
+        }
+        Ok(Array1::from_iter(ids.iter().map(|id| id.0)).into_pyarray(py))
+    }
+
     /// Adds obstacles (a list of :class:`Obstacle`) after the existing ones, which keep their
     /// motion. Raises ``ValueError`` if the world refuses one; the world is then unchanged.
     fn add_obstacles(&mut self, obstacles: Vec<PyRef<'_, Obstacle>>) -> PyResult<()> {

@@ -801,33 +801,7 @@ impl Scenario {
     /// The discs of a `[[file]]` table, placed in the world's box.
     #[cfg(not(target_arch = "wasm32"))]
     fn read_file(&self, spec: &FileSpec, config: &bounce::Config) -> Result<FileDiscs, String> {
-        let frame = match config.boundary.bounds() {
-            Some((min, max)) => start::Frame {
-                centre: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
-                size: Some([max[0] - min[0], max[1] - min[1]]),
-            },
-            None => start::Frame {
-                centre: [0.0, 0.0],
-                size: None,
-            },
-        };
-        let mut read = start::read(&self.file_path(spec), spec.frame, frame)?;
-        // A centre a 32-bit float rounded onto a periodic box's far edge is its near edge.
-        if let bounce::Boundary::Periodic { min, max } = config.boundary {
-            for disc in &mut read.discs {
-                for k in 0..2 {
-                    let size = max[k] - min[k];
-                    let x = &mut disc.position[k];
-                    if x.is_finite() && !(*x >= min[k] && *x < max[k]) {
-                        *x = min[k] + (*x - min[k]).rem_euclid(size);
-                        if *x >= max[k] {
-                            *x = min[k];
-                        }
-                    }
-                }
-            }
-        }
-        Ok(read)
+        start::read_for(&self.file_path(spec), spec.frame, &config.boundary)
     }
 
     #[cfg(target_arch = "wasm32")]

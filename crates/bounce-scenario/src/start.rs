@@ -17,7 +17,7 @@
 
 use std::path::Path;
 
-use bounce::Particle;
+use bounce::{Boundary, Particle};
 
 pub use crate::FileDiscs;
 use crate::gsd::{RawEntry, read_at, read_layout};
@@ -44,6 +44,37 @@ pub fn read(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
         read_gsd(path, frame, world)
     };
     read.map_err(|e| format!("{name}: {e}"))
+}
+
+/// [`read`] for a world of `boundary`: discs placed around its box centre (the origin in an
+/// open world), the file's box checked against it, and, in a periodic box, a centre that
+/// 32-bit rounding put on the far edge moved to the near one.
+pub fn read_for(path: &Path, frame: i64, boundary: &Boundary) -> Result<FileDiscs, String> {
+    let placing = match boundary.bounds() {
+        Some((min, max)) => Frame {
+            centre: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+            size: Some([max[0] - min[0], max[1] - min[1]]),
+        },
+        None => Frame {
+            centre: [0.0, 0.0],
+            size: None,
+        },
+    };
+    let mut read = read(path, frame, placing)?;
+    if let Boundary::Periodic { min, max } = *boundary {
+        for disc in &mut read.discs {
+            for k in 0..2 {
+                let x = &mut disc.position[k];
+                if x.is_finite() && !(*x >= min[k] && *x < max[k]) {
+                    *x = min[k] + (*x - min[k]).rem_euclid(max[k] - min[k]);
+                    if *x >= max[k] {
+                        *x = min[k];
+                    }
+                }
+            }
+        }
+    }
+    Ok(read)
 }
 
 /// How many discs `path` holds, without reading them all (GSD: the frame's `particles/N`;
