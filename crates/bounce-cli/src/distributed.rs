@@ -216,7 +216,7 @@ fn run(
         if panic_at == Some((comm.rank(), step)) {
             panic!("BOUNCE_MPI_PANIC_AT asked for a panic after step {step}");
         }
-        collisions += stats.pairs;
+        collisions += stats.collisions;
         let stop_now = ranks.stop != 0 && step < total;
         if stop_now {
             // Every rank ends as the first one stopped says.
@@ -723,7 +723,11 @@ impl<'c> Ranks<'c> {
         let mut all = [0.0; 8];
         self.comm
             .all_reduce_into(&flags[..], &mut all[..], SystemOperation::max());
-        let (pairs, sums, bytes) = add_sums(self.comm, stats.pairs, world.step_sums());
+        let ([pairs, collisions], sums, bytes) = add_sums(
+            self.comm,
+            [stats.pairs, stats.collisions],
+            world.step_sums(),
+        );
         self.sent[2] += bytes;
         self.steps += 1;
         self.clock[1] += reducing.elapsed().as_secs_f64();
@@ -747,6 +751,7 @@ impl<'c> Ranks<'c> {
         self.min_radius = -all[6];
         let merged = StepStats {
             pairs,
+            collisions,
             max_overlap: all[4],
             virial: 0.5 * sums[0] / self.dt,
             wall_impulse: WallImpulse {
@@ -940,10 +945,14 @@ impl<'c> Ranks<'c> {
     }
 }
 
-/// The whole step's pair count and exact sums (virial, then the four walls), from every
+/// The whole step's contact and collision counts and exact sums (virial, then the four walls), from every
 /// part's, and the bytes this rank sent: the counts and the sums' lanes are integers added by
 /// one reduction, the non-finite parts by another (their sum does not depend on order either).
-fn add_sums(comm: &SimpleCommunicator, pairs: usize, sums: &StepSums) -> (usize, [f64; SUMS], u64) {
+fn add_sums(
+    comm: &SimpleCommunicator,
+    counts: [usize; 2],
+    sums: &StepSums,
+) -> ([usize; 2], [f64; SUMS], u64) {
     let exact = [
         &sums.virial,
         &sums.walls.walls[0],
@@ -952,7 +961,7 @@ fn add_sums(comm: &SimpleCommunicator, pairs: usize, sums: &StepSums) -> (usize,
         &sums.walls.walls[3],
     ];
     let lanes_per_sum = ExactSum::WORDS - 1;
-    let mut lanes = vec![pairs as i64];
+    let mut lanes = vec![counts[0] as i64, counts[1] as i64];
     let mut special = [0.0; SUMS];
     for (k, sum) in exact.iter().enumerate() {
         let words = sum.to_words();
@@ -965,10 +974,14 @@ fn add_sums(comm: &SimpleCommunicator, pairs: usize, sums: &StepSums) -> (usize,
     comm.all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
     let bytes = ((lanes.len() + special.len()) * 8) as u64;
     let value = |k: usize| {
-        let at = 1 + k * lanes_per_sum;
+        let at = 2 + k * lanes_per_sum;
         ExactSum::from_words(&lanes_all[at..at + lanes_per_sum], special_all[k]).value()
     };
-    (lanes_all[0] as usize, [0, 1, 2, 3, 4].map(value), bytes)
+    (
+        [lanes_all[0] as usize, lanes_all[1] as usize],
+        [0, 1, 2, 3, 4].map(value),
+        bytes,
+    )
 }
 
 /// The fastest squared speed and the smallest radius among `world`'s discs that `tally`

@@ -91,7 +91,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let dt = session.dt;
     let stepped = session.run_until_stopped(total, &stop, |world, stats| -> Result<_> {
         let t = Instant::now();
-        collisions += stats.pairs;
+        collisions += stats.collisions;
         outputs.stats.totals.add(stats, world, dt);
         outputs.record(world)?;
         progress.inc(1);

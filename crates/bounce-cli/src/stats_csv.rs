@@ -1,10 +1,13 @@
 //! `stats.csv`: one row every `stats_every` steps, plus the first and the last step.
 //!
 //! Columns: `step,time,kinetic_energy,momentum_x,momentum_y,collisions,wall_impulse,
-//! max_overlap,temperature,potential_energy,pressure,substeps,particles`. `pressure` is the step's
+//! max_overlap,temperature,potential_energy,pressure,substeps,particles,contacts`.
+//! `collisions` counts impacts (pairs that met approaching faster than a resting contact
+//! does, `bounce::law::is_impact`), `contacts` every colliding pair found in every substep
+//! (a resting contact in each). `pressure` is the step's
 //! collision-virial pressure (empty in an open world, which has no area); `substeps` the
 //! substeps the step took (more than `time.substeps` with `time.max_travel`); `particles` the
-//! discs in the world (emitters add, sinks remove). `collisions`, `wall_impulse` and `max_overlap`
+//! discs in the world (emitters add, sinks remove). `collisions`, `contacts`, `wall_impulse` and `max_overlap`
 //! cover the steps since the previous row (the first row, at the starting step, has zeros
 //! there).
 //!
@@ -29,7 +32,7 @@ use bounce_scenario::atomic::AtomicFile;
 use bounce_scenario::checkpoint::RunState;
 
 /// The header, in order.
-pub const COLUMNS: [&str; 13] = [
+pub const COLUMNS: [&str; 14] = [
     "step",
     "time",
     "kinetic_energy",
@@ -43,6 +46,7 @@ pub const COLUMNS: [&str; 13] = [
     "pressure",
     "substeps",
     "particles",
+    "contacts",
 ];
 
 /// The obstacle columns of a scenario: its named groups and whether any obstacle moves.
@@ -142,7 +146,8 @@ impl Totals {
     pub fn add(&mut self, stats: &StepStats, world: &World, dt: f64) {
         let impulses = world.obstacle_impulses();
         for t in [&mut self.row, &mut self.scheduled] {
-            t.collisions += stats.pairs as u64;
+            t.collisions += stats.collisions as u64;
+            t.contacts += stats.pairs as u64;
             t.wall_impulse += stats.wall_impulse.total();
             t.max_overlap = t.max_overlap.max(stats.max_overlap);
             t.elapsed += dt;
@@ -268,6 +273,7 @@ impl StatsCsv {
             pressure.map_or_else(String::new, |p| p.to_string()),
             s.substeps.to_string(),
             world.len().to_string(),
+            t.contacts.to_string(),
         ];
         record.extend(extra);
         self.writer.write_record(record)?;

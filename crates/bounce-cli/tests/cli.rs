@@ -124,6 +124,14 @@ fn stats_csv_has_the_documented_columns_and_rows() {
         "some collisions"
     );
     assert!(
+        text.lines()
+            .next()
+            .unwrap()
+            .ends_with(",particles,contacts")
+    );
+    // Every collision is a contact; in this gas nearly every contact a collision.
+    assert!(rows.iter().all(|r| r[13] >= r[5]));
+    assert!(
         rows.iter().map(|r| r[6]).sum::<f64>() > 0.0,
         "some wall impulse"
     );

@@ -461,7 +461,8 @@ impl World {
     }
 
     /// What the last step measured, as a dict: ``kinetic_energy``, ``momentum`` (px, py),
-    /// ``collisions`` (pairs resolved), ``wall_impulse`` (a dict per wall), ``max_overlap``,
+    /// ``collisions`` (impacts: pairs that met approaching faster than a resting contact), ``contacts``
+    /// (every pair found in every substep, resting ones included), ``wall_impulse`` (a dict per wall), ``max_overlap``,
     /// ``virial``, ``pressure`` (``None`` in an open world), ``substeps`` and
     /// ``obstacle_work`` (the work moving obstacles did on the discs in the step),
     /// ``emitted`` and ``removed`` (discs the emitters added and the sinks took).
@@ -472,7 +473,8 @@ impl World {
         let d = PyDict::new(py);
         d.set_item("kinetic_energy", s.kinetic_energy)?;
         d.set_item("momentum", (s.momentum[0], s.momentum[1]))?;
-        d.set_item("collisions", s.pairs)?;
+        d.set_item("collisions", s.collisions)?;
+        d.set_item("contacts", s.pairs)?;
         let walls = PyDict::new(py);
         walls.set_item("left", s.wall_impulse.left)?;
         walls.set_item("right", s.wall_impulse.right)?;

@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 
 const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// Version 2 added the broadphase's reference positions; version 3 the checksum, the
-/// fingerprint and the run's output state.
-const VERSION: u32 = 3;
+/// fingerprint and the run's output state; version 4 the contacts beside the collisions in it.
+const VERSION: u32 = 4;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -28,8 +28,10 @@ const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 /// was written, so a resumed run continues the same rows.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RunState {
-    /// Colliding pairs since the last row.
+    /// Collisions (impacts) since the last row.
     pub collisions: u64,
+    /// Contacts (colliding pairs, resting ones in every substep) since the last row.
+    pub contacts: u64,
     /// Wall impulse since the last row.
     pub wall_impulse: f64,
     /// Largest overlap since the last row.
@@ -314,6 +316,7 @@ pub(crate) mod tests {
         let world = small_world();
         let run = RunState {
             collisions: 3,
+            contacts: 40,
             wall_impulse: 0.25,
             max_overlap: 0.0,
             elapsed: 0.5,

@@ -30,6 +30,8 @@ pub(crate) struct StepContext<'a> {
     /// The contact order's grid is sized for discs up to this radius at least (see
     /// `World::set_order_radius`; 0 sizes it for the discs here).
     pub order_radius: f64,
+    /// The approach speed below which a contact rests (`law::resting_speed`).
+    pub resting_speed: f64,
 }
 
 impl<'a> StepContext<'a> {
@@ -45,6 +47,7 @@ impl<'a> StepContext<'a> {
             exec,
             tally,
             order_radius: 0.0,
+            resting_speed: crate::law::resting_speed(config.gravity, h),
         }
     }
 }

@@ -165,7 +165,7 @@ impl Geometry {
     /// neighbour is within reach).
     pub(crate) fn fits_size(&self, r: f64, law: &Law) -> Result<(), ParticleError> {
         let reach = law.interaction_diameter(r);
-        if !(reach <= MAX_INTERACTION_DIAMETER) {
+        if reach.is_nan() || reach > MAX_INTERACTION_DIAMETER {
             return Err(ParticleError::ReachTooLarge { radius: r, reach });
         }
         let Some((min, max)) = self.bounds() else {

@@ -26,7 +26,7 @@ use crate::config::Config;
 use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
-use crate::law::{Body, Disc, Law, collide, reflect, touch_walls};
+use crate::law::{Body, Disc, Law, collide, is_impact, reflect, resting_speed, touch_walls};
 use crate::obstacles::{self, Impacts, Met, uncross};
 use crate::particles::Particles;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
@@ -58,7 +58,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     world.broadphase.invalidate();
     let config = world.config.clone();
     let h = dt / substeps as f64;
-    let rules = Rules::new(&config);
+    let rules = Rules::new(&config, h);
     let mut stats = StepStats {
         substeps,
         emitted,
@@ -100,8 +100,11 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 stats.pairs += contacts.len();
                 stats.max_overlap = stats.max_overlap.max(max_overlap);
             }
-            sums.virial
-                .merge(&resolve(p, &contacts, &rules, &rules.law.for_pass(pass)));
+            let (virial, impacts) = resolve(p, &contacts, &rules, &rules.law.for_pass(pass));
+            sums.virial.merge(&virial);
+            if pass == 0 {
+                stats.collisions += impacts;
+            }
             if has_obstacles {
                 let impacts = meet_obstacles(p, trail.as_deref_mut(), &shapes, states, &rules);
                 obstacles::take_impacts(impacts, &config, states, &mut met);
@@ -138,10 +141,12 @@ struct Rules {
     restitution: Vec<f64>,
     /// The order a disc meets the obstacles in: the fixed ones, then the moving ones.
     obstacle_order: Vec<usize>,
+    /// The approach speed below which a contact rests.
+    resting_speed: f64,
 }
 
 impl Rules {
-    fn new(config: &Config) -> Rules {
+    fn new(config: &Config, h: f64) -> Rules {
         let moving: Vec<bool> = config
             .obstacles
             .iter()
@@ -161,6 +166,7 @@ impl Rules {
                 .map(|o| o.restitution.unwrap_or(config.coefficient_of_restitution))
                 .collect(),
             obstacle_order,
+            resting_speed: resting_speed(config.gravity, h),
         }
     }
 
@@ -318,10 +324,11 @@ fn for_each_near_pair(
 
 /// The seed's steps 1–7 for each contact in order, on the current state (a disc pushed by
 /// one pair is seen at its new place by the next); walls hold after each push. Returns the
-/// collision virial `Σ r_ab · Δp_ab`, summed exactly.
-fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) -> ExactSum {
+/// collision virial `Σ r_ab · Δp_ab`, summed exactly, and the impacts.
+fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) -> (ExactSum, usize) {
     let min_image = rules.geometry.min_image();
     let mut virial = ExactSum::new();
+    let mut impacts = 0;
     for &Contact { a, b, .. } in contacts {
         let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
         let body = |i: usize| Body {
@@ -337,6 +344,7 @@ fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) ->
                 - two.mass * (out.v2[k] - two.velocity[k]))
         });
         virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+        impacts += is_impact(out.approach, rules.resting_speed) as usize;
         p.x[a] += out.push[0];
         p.y[a] += out.push[1];
         p.x[b] -= out.push[0];
@@ -349,7 +357,7 @@ fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) ->
         [p.vx[a], p.vy[a]] = out.v1;
         [p.vx[b], p.vy[b]] = out.v2;
     }
-    virial
+    (virial, impacts)
 }
 
 /// The walls as contacts: each disc touching a wall and moving into it bounces.

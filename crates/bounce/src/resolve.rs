@@ -21,11 +21,34 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::geometry::MinImage;
 use crate::lanes::{F64x2, F64x4, Lanes};
-use crate::law::{Law, hold, resolve_lanes, touch_walls};
+use crate::law::{Law, hold, is_impact, resolve_lanes, touch_walls};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::part::Tally;
 use crate::particles::Particles;
 use crate::sum::{ExactSum, WallSums};
+
+/// What resolving the contacts of a substep adds up.
+#[derive(Clone, Debug)]
+pub(crate) struct Resolved {
+    /// The collision virial `Σ r_ij · Δp_ij`, summed exactly (so in no particular order).
+    pub virial: ExactSum,
+    /// The pairs that met as impacts ([`is_impact`]), not resting contacts.
+    pub impacts: usize,
+}
+
+impl Resolved {
+    fn new() -> Self {
+        Resolved {
+            virial: ExactSum::new(),
+            impacts: 0,
+        }
+    }
+
+    fn merge(&mut self, other: &Resolved) {
+        self.virial.merge(&other.virial);
+        self.impacts += other.impacts;
+    }
+}
 
 /// How many contacts ahead the solver asks for the discs' cache lines.
 const PREFETCH_AHEAD: usize = 8;
@@ -35,14 +58,15 @@ const PREFETCH_AHEAD: usize = 8;
 /// collision virial of the substep, `Σ r_ij · Δp_ij` over the resolved pairs (`r_ij` the
 /// centre difference, `Δp_ij` the pair's impulse, the antisymmetric part of the two momentum
 /// changes: exact when the model conserves momentum), summed exactly (so in no particular
-/// order), over the contacts the step's tally counts (by the lower-id disc's place).
+/// order), and the impacts among them, over the contacts the step's tally counts (by the
+/// lower-id disc's place).
 /// `uniform_radius` is every disc's radius when all are equal (as the broadphase knows).
 pub(crate) fn resolve_all(
     contacts: &Contacts,
     p: &mut Particles,
     ctx: &StepContext,
     uniform_radius: Option<f64>,
-) -> ExactSum {
+) -> Resolved {
     // What the unsafe writes below rely on, checked once: the contacts index this storage
     // (their pieces' disjointness is `Contacts`' own invariant).
     assert_eq!(
@@ -91,7 +115,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     ctx: &StepContext,
     walls: Option<([f64; 2], [f64; 2])>,
     uniform_radius: f64,
-) -> ExactSum {
+) -> Resolved {
     let tally = ctx.tally;
     let law = &ctx.law;
     let min_image = ctx.geometry.min_image();
@@ -123,7 +147,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         }
     };
     // The contacts `pair(lane)` (storage indices, lower id first), one per lane; adds the
-    // lanes' virial (those the tally counts) to `virial`.
+    // lanes' virial and impacts (those the tally counts) to `sums`.
     //
     // SAFETY (for callers): the lanes' contacts touch disjoint discs, and no other thread
     // touches them meanwhile: the contacts of one block touch discs in its cells and their
@@ -133,7 +157,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     unsafe fn resolve<L: Lanes>(
         pair: impl Fn(usize) -> (usize, usize),
         discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
-        virial: &mut ExactSum,
+        sums: &mut Resolved,
     ) {
         let Discs {
             x,
@@ -146,6 +170,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             min_image,
             walls,
             tally,
+            resting_speed,
         } = discs;
         // The lanes' indices read once: the disc stores below go through raw pointers, which
         // the compiler cannot tell apart from the contact list, so it would read them anew
@@ -190,14 +215,15 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             // The lanes' terms (zero where the tally does not count the pair) added together.
             let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
             let mut terms = lane_values(term);
-            if let Some(t) = tally {
-                for k in 0..L::LANES {
-                    if !t.counts(xa_at[k], ya_at[k]) {
-                        terms[k] = 0.0;
-                    }
+            let approach = lane_values(out.approach);
+            for k in 0..L::LANES {
+                if tally.is_some_and(|t| !t.counts(xa_at[k], ya_at[k])) {
+                    terms[k] = 0.0;
+                } else {
+                    sums.impacts += is_impact(approach[k], *resting_speed) as usize;
                 }
             }
-            virial.add_all(&terms[..L::LANES]);
+            sums.virial.add_all(&terms[..L::LANES]);
             let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
             let (mut xb, mut yb) = (xb - out.push[0], yb - out.push[1]);
             if let Some((min, max)) = *walls {
@@ -225,8 +251,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         min_image,
         walls,
         tally,
+        resting_speed: ctx.resting_speed,
     };
-    let mut virial = ExactSum::new();
+    let mut sums = Resolved::new();
     let list = contacts.list();
     // The `k`th contacts of runs that touch disjoint discs, one per lane.
     //
@@ -238,7 +265,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         runs: &[Range<usize>],
         k: usize,
         discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
-        virial: &mut ExactSum,
+        sums: &mut Resolved,
     ) {
         let pair = |lane: usize| {
             debug_assert!(lane < runs.len() && runs[lane].start + k < runs[lane].end);
@@ -248,7 +275,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             (contact.a as usize, contact.b as usize)
         };
         // SAFETY: as the caller promises.
-        unsafe { resolve::<L>(pair, discs, virial) };
+        unsafe { resolve::<L>(pair, discs, sums) };
     }
     let prefetch_ahead = |runs: &[Range<usize>], k: usize| {
         if PREFETCH {
@@ -263,7 +290,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     // One colour row: its four quarters (whole blocks, so disjoint discs) side by side, one
     // per lane, each in its own order; as quarters run out, the rest two at a time and the
     // last alone.
-    let colour_row = |s: usize, virial: &mut ExactSum| {
+    let colour_row = |s: usize, sums: &mut Resolved| {
         // (An array, not a `Vec`: a gas's colour rows hold a contact or two, and an allocation
         // per colour row cost more than resolving them.)
         let [[q0, q1], [q2, q3]] = contacts.quarters(s);
@@ -286,9 +313,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
                 // run's length, ranges of the list): disjoint discs.
                 unsafe {
                     match lanes {
-                        4 => side_by_side::<F64x4>(list, runs, k, &discs, virial),
-                        2 => side_by_side::<F64x2>(list, runs, k, &discs, virial),
-                        _ => side_by_side::<f64>(list, runs, k, &discs, virial),
+                        4 => side_by_side::<F64x4>(list, runs, k, &discs, sums),
+                        2 => side_by_side::<F64x2>(list, runs, k, &discs, sums),
+                        _ => side_by_side::<f64>(list, runs, k, &discs, sums),
                     }
                 }
             }
@@ -304,19 +331,19 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             .map(|p| contacts.piece_contacts(p))
             .sum::<usize>();
         let partial = ctx.exec.map_index(work, phase.clone(), |piece| {
-            let mut virial = ExactSum::new();
+            let mut sums = Resolved::new();
             for colour_rows in &contacts.pieces()[piece] {
                 for s in colour_rows.clone() {
-                    colour_row(s, &mut virial);
+                    colour_row(s, &mut sums);
                 }
             }
-            virial
+            sums
         });
         for piece in &partial {
-            virial.merge(piece);
+            sums.merge(piece);
         }
     }
-    virial
+    sums
 }
 
 /// What resolving a contact reads besides the contact.
@@ -331,6 +358,8 @@ struct Discs<'a, R, M> {
     min_image: MinImage,
     walls: Option<([f64; 2], [f64; 2])>,
     tally: Option<Tally>,
+    /// The approach speed above which a contact is an impact.
+    resting_speed: f64,
 }
 
 /// The lanes of `v` as an array of up to four.

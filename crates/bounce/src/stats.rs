@@ -14,8 +14,14 @@ pub struct StepStats {
     pub kinetic_energy: f64,
     /// Total linear momentum `Σ m v` after the step, with the active mass model.
     pub momentum: [f64; 2],
-    /// Colliding pairs found (distance <= collision distance), summed over the substeps.
+    /// Contacts: colliding pairs found (distance <= collision distance), summed over the
+    /// substeps. A resting contact counts in every substep it lasts.
     pub pairs: usize,
+    /// Collisions: the contacts that were impacts ([`crate::law::is_impact`]: approaching
+    /// faster than gravity's pull over a few substeps, [`crate::law::resting_speed`]),
+    /// summed over the substeps. A blow down a touching Newton's cradle is one per pair; a
+    /// pile at rest has none.
+    pub collisions: usize,
     /// Momentum delivered to each wall during the step, summed over the substeps.
     pub wall_impulse: WallImpulse,
     /// Largest `collision_distance - distance` among the pairs found in any substep, or 0.

@@ -198,8 +198,8 @@ fn same_bits(r: &Recipe, threads: usize, steps: usize) -> Result<(), TestCaseErr
         let at = format!("step {step}, {threads} threads");
         prop_assert_eq!(fast.state_hash(), reference.state_hash(), "state, {}", at);
         prop_assert_eq!(
-            (a.pairs, a.substeps, a.emitted, a.removed),
-            (b.pairs, b.substeps, b.emitted, b.removed),
+            (a.pairs, a.collisions, a.substeps, a.emitted, a.removed),
+            (b.pairs, b.collisions, b.substeps, b.emitted, b.removed),
             "counts, {}",
             at
         );

@@ -21,6 +21,7 @@ class Stats(TypedDict):
     kinetic_energy: float
     momentum: _Pair
     collisions: int
+    contacts: int
     wall_impulse: WallImpulse
     max_overlap: float
     virial: float

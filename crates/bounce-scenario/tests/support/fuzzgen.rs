@@ -286,7 +286,7 @@ pub fn forge(valid: &[u8], case: u64, rng: &mut Rng) -> Vec<u8> {
             _ => bad.insert(at, rng.next() as u8),
         }
     }
-    if case % 8 != 0 && bad.len() >= HEADER {
+    if !case.is_multiple_of(8) && bad.len() >= HEADER {
         reseal(&mut bad);
     }
     bad

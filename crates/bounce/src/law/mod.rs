@@ -135,6 +135,30 @@ impl Law {
     }
 }
 
+/// How many substeps of gravity's pull a resting contact's approach speed may hold: a disc
+/// resting on another (or on a wall-held one) is pulled into it by `|g| h` each substep,
+/// and the seed's exchange of normal velocities passes that speed up and down a stack, so
+/// resting contacts approach at a few `|g| h`; impacts (a drop of even one disc radius) come
+/// far faster.
+pub const RESTING_SUBSTEPS: f64 = 4.0;
+
+/// The approach speed below which a detected pair is a resting contact, not an impact:
+/// [`RESTING_SUBSTEPS`] substeps `h` of gravity `g` (0 without gravity: every approaching
+/// pair is an impact).
+#[inline]
+pub fn resting_speed(gravity: [f64; 2], h: f64) -> f64 {
+    RESTING_SUBSTEPS * gravity[0].hypot(gravity[1]) * h
+}
+
+/// Whether a detected pair that approached at `approach` (the normal speed before the update,
+/// [`Resolution::approach`]) is an **impact**, which the step's `collisions` count, rather
+/// than a resting contact, which only its `contacts` count: it approached faster than
+/// `resting_speed`.
+#[inline(always)]
+pub fn is_impact(approach: f64, resting_speed: f64) -> bool {
+    approach > resting_speed
+}
+
 /// **The detection rule**, the one place it is written: two things whose centre difference
 /// (to a peg's centre, or a segment's nearest point) is `diff` and whose collision distance
 /// is `reach` collide when `distance <= reach`; then `Some(reach - distance)`, the overlap.
@@ -179,6 +203,25 @@ pub fn sqrt_limit(reach: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_impact_approaches_faster_than_four_substeps_of_gravity() {
+        // |g| = 5 (a 3-4-5 vector), h = 0.01: resting contacts approach at up to 0.2.
+        assert_eq!(resting_speed([3.0, -4.0], 0.01), 0.2);
+        assert!(is_impact(0.21, 0.2) && !is_impact(0.2, 0.2) && !is_impact(-1.0, 0.2));
+        // Without gravity every approaching pair is an impact; a separating one is not.
+        assert_eq!(resting_speed([0.0, 0.0], 0.01), 0.0);
+        assert!(is_impact(1e-12, 0.0) && !is_impact(0.0, 0.0));
+        // The approach is v2n − v1n along the normal from 2 to 1: head on at 1 each, 2.
+        let law = Law::new(&Config::default());
+        let body = |vx: f64| Body {
+            velocity: [vx, 0.0],
+            radius: 1.0,
+            mass: 1.0,
+        };
+        let out = resolve_pair([-2.0, 0.0], &body(1.0), &body(-1.0), &law);
+        assert_eq!(out.approach, 2.0);
+    }
 
     #[test]
     fn every_reach_is_a_scaled_sum_of_radii() {

@@ -26,6 +26,9 @@ pub struct Resolution {
     pub v1: [f64; 2],
     /// New velocity of the second disc.
     pub v2: [f64; 2],
+    /// How fast the discs approached along the normal before the update (`v2n - v1n`;
+    /// negative when they were separating): what tells an impact from a resting contact.
+    pub approach: f64,
 }
 
 /// The seed's steps 1–7 for one detected pair, on the current state. `diff = p1 - p2` is the
@@ -58,6 +61,7 @@ pub fn resolve_pair(diff: [f64; 2], a: &Body, b: &Body, law: &Law) -> Resolution
         push: out.push,
         v1: out.v1,
         v2: out.v2,
+        approach: out.approach,
     }
 }
 
@@ -67,6 +71,7 @@ pub(crate) struct LaneResolution<L> {
     pub push: [L; 2],
     pub v1: [L; 2],
     pub v2: [L; 2],
+    pub approach: L,
 }
 
 /// The seed's steps 1–7 ([`resolve_pair`]) for a pair per lane: written once, for one pair
@@ -141,9 +146,15 @@ pub(crate) fn resolve_lanes<L: Lanes>(
             push,
             v1: keep(v1, va),
             v2: keep(v2, vb),
+            approach: v2n - v1n,
         };
     }
-    LaneResolution { push, v1, v2 }
+    LaneResolution {
+        push,
+        v1,
+        v2,
+        approach: v2n - v1n,
+    }
 }
 
 #[cfg(test)]

@@ -330,8 +330,11 @@ impl<'w> Stages<'w> {
             law: self.ctx.law.for_pass(pass),
             ..self.ctx
         };
-        let virial = resolve_all(self.contacts, self.particles, &ctx, uniform);
-        done.sums.virial.merge(&virial);
+        let resolved = resolve_all(self.contacts, self.particles, &ctx, uniform);
+        done.sums.virial.merge(&resolved.virial);
+        if pass == 0 {
+            done.stats.collisions += resolved.impacts;
+        }
         done.profile.resolve += done.clock.lap();
     }
 
