@@ -461,8 +461,9 @@ impl World {
     }
 
     /// What the last step measured, as a dict: ``kinetic_energy``, ``momentum`` (px, py),
-    /// ``collisions`` (impacts: pairs that met approaching faster than a resting contact), ``contacts``
-    /// (every pair found in every substep, resting ones included), ``wall_impulse`` (a dict per wall), ``max_overlap``,
+    /// ``collisions`` (impacts: pairs that met approaching faster than a resting contact),
+    /// ``contacts`` (every pair found in every substep, resting ones included),
+    /// ``wall_impulse`` (a dict per wall), ``max_overlap``,
     /// ``virial``, ``pressure`` (``None`` in an open world), ``substeps`` and
     /// ``obstacle_work`` (the work moving obstacles did on the discs in the step),
     /// ``emitted`` and ``removed`` (discs the emitters added and the sinks took).
