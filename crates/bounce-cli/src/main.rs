@@ -140,9 +140,11 @@ impl Steer {
 
 /// Stores the number of the first SIGINT, SIGTERM or SIGHUP received: the run stops at its
 /// last whole step (within a second, even inside a long step), writes everything and exits
-/// with 128 + that number. A second signal, for a user who will not wait, exits at once: the
-/// files being written are removed, those already complete stay, none is left half-written.
-fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
+/// with 128 + that number. With `second_exits`, a second signal, for a user who will not
+/// wait, exits at once: the files being written are removed, those already complete stay,
+/// none is left half-written. (Not under `mpirun`, which forwards one signal to its ranks
+/// more than once: there the first is the stop, and repeats change nothing.)
+fn stop_on_signals(second_exits: bool) -> Result<Arc<AtomicUsize>> {
     let stop = Arc::new(AtomicUsize::new(0));
     #[cfg(unix)]
     {
@@ -156,7 +158,7 @@ fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
                 for signal in signals.forever() {
                     if first.load(Ordering::SeqCst) == 0 {
                         first.store(signal as usize, Ordering::SeqCst);
-                    } else {
+                    } else if second_exits {
                         eprintln!(
                             "bounce: second signal ({signal}): exiting now; the files being \
                              written are removed, the last complete ones stay"
@@ -230,7 +232,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 },
                 usize::from,
             );
-            let stop = stop_on_signals()?;
+            let stop = stop_on_signals(!distributed)?;
             let (text, origin, limits) = steer.apply(&scenario)?;
             let args = run::RunArgs {
                 scenario,
