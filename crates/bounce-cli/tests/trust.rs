@@ -128,12 +128,7 @@ fn signalled_run(s: &Scratch, scenario: &Path, out: &str, signal: &str) -> std::
         std::thread::sleep(Duration::from_millis(20));
     }
     std::thread::sleep(Duration::from_millis(200));
-    let sent = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(sent.success());
+    kill(&child, signal);
     wait(child, Duration::from_secs(60), "the signalled run")
 }
 
