@@ -15,6 +15,8 @@
 //! 5. The model options do what their documentation says, on a two-disc collision worked
 //!    by hand: the seed's restitution loses momentum at e < 1, the relative-velocity one keeps
 //!    it; `approaching_only` leaves a separating pair's velocities alone.
+//! 6. Resting contacts: a disc resting on the floor (g = 10, dt = 0.01) moves at up to
+//!    `|g| dt` under the seed's bounce and is still under `resting_contacts = "rest"`.
 //!
 //! It writes `validate.png` (Z against packing with Henderson's curve) and states its runtime.
 
@@ -24,7 +26,9 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use bounce::law::{Body, Law, resolve_pair};
 use bounce::scene::{self, Gas, Speeds, maxwell_boltzmann_cdf};
-use bounce::{Boundary, Config, MassModel, RestitutionModel, VelocityUpdate, World};
+use bounce::{
+    Boundary, Config, MassModel, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
+};
 use plotters::prelude::*;
 
 /// How big the reference runs are.
@@ -243,6 +247,38 @@ fn model_options() -> Check {
     }
 }
 
+/// A disc of radius 0.5 resting on the floor for 100 steps under each `resting_contacts`:
+/// its largest speed at a step's end.
+fn resting_contacts() -> Result<Check> {
+    let (g, dt) = (10.0, 0.01);
+    let speed = |rest| -> Result<f64> {
+        let config = Config {
+            gravity: [0.0, -g],
+            boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+            resting_contacts: rest,
+            ..Config::default()
+        };
+        let mut world = World::new(config)?;
+        world.add_particle(Particle::new([5.0, 0.5], [0.0, 0.0], 0.5))?;
+        let mut top = 0.0f64;
+        for _ in 0..100 {
+            world.step(dt)?;
+            top = top.max(world.particles().vy()[0].abs());
+        }
+        Ok(top)
+    };
+    let (bounce, rest) = (
+        speed(RestingContacts::Bounce)?,
+        speed(RestingContacts::Rest)?,
+    );
+    Ok(Check {
+        name: "resting contacts (a disc on the floor, g = 10, dt = 0.01)".into(),
+        measured: format!("largest speed: bounce {bounce:.6}, rest {rest}"),
+        expected: "bounce |g| dt = 0.1 (the seed's), rest 0".into(),
+        pass: (bounce - g * dt).abs() < 1e-12 && rest == 0.0,
+    })
+}
+
 /// Runs every check, prints the report and writes `validate.png` into `out`. Returns whether
 /// all passed.
 pub fn validate(quick: bool, out: &Path) -> Result<bool> {
@@ -274,6 +310,7 @@ pub fn validate(quick: bool, out: &Path) -> Result<bool> {
     }
     checks.push(equipartition(size)?);
     checks.push(model_options());
+    checks.push(resting_contacts()?);
     for c in &checks {
         println!(
             "{}  {}: {} (expected {})",

@@ -1,7 +1,9 @@
 //! `bounce.Config`: the Rust [`bounce::Config`] with keyword arguments, validated on
 //! construction.
 
-use bounce::{Boundary, Config as RustConfig, MassModel, RestitutionModel, VelocityUpdate};
+use bounce::{
+    Boundary, Config as RustConfig, MassModel, RestingContacts, RestitutionModel, VelocityUpdate,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -16,7 +18,7 @@ use serde::de::IntoDeserializer;
 /// Every keyword is optional; the defaults are the seed's (an open world, no gravity,
 /// ``collision_radius_scale = 1``, ``coefficient_of_restitution = 1``, one substep, one
 /// solver pass, radii as masses, each normal velocity scaled by the restitution, every
-/// detected pair updated).
+/// detected pair updated, every contact bouncing however slow).
 ///
 /// Keywords: ``collision_radius_scale``, ``coefficient_of_restitution``, ``gravity``
 /// (``(gx, gy)``), ``substeps``, ``solver_iterations``, ``max_travel`` (``None`` or a
@@ -25,7 +27,10 @@ use serde::de::IntoDeserializer;
 /// ``wall_restitution`` (``None``: the coefficient of restitution), ``mass_model``
 /// (``"radius"``, ``"area"``, ``"per_particle"``), ``restitution_model``
 /// (``"scale_each_normal_velocity"``, ``"relative_normal_velocity"``) and
-/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``), ``obstacles`` (a list
+/// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``), ``resting_contacts``
+/// (``"bounce"``; ``"rest"``: contacts slower than 4 substeps of gravity's pull get
+/// restitution 0, so a disc resting on the floor, a segment or a peg keeps no ``|g| h``
+/// speed), ``obstacles`` (a list
 /// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
@@ -49,6 +54,13 @@ fn restitution_model_name(m: RestitutionModel) -> &'static str {
     match m {
         RestitutionModel::ScaleEachNormalVelocity => "scale_each_normal_velocity",
         RestitutionModel::RelativeNormalVelocity => "relative_normal_velocity",
+    }
+}
+
+fn resting_contacts_name(m: RestingContacts) -> &'static str {
+    match m {
+        RestingContacts::Bounce => "bounce",
+        RestingContacts::Rest => "rest",
     }
 }
 
@@ -149,6 +161,11 @@ impl Config {
                             &name,
                             "\"all_detected\", \"approaching_only\"",
                         )?
+                    }
+                    "resting_contacts" => {
+                        let name: String = typed(&key, v, "a string")?;
+                        c.resting_contacts =
+                            option::<RestingContacts>(&key, &name, "\"bounce\", \"rest\"")?
                     }
                     "obstacles" => {
                         let list: Vec<PyRef<'_, Obstacle>> =
@@ -301,6 +318,12 @@ impl Config {
         velocity_update_name(self.inner.velocity_update)
     }
 
+    /// ``"bounce"`` (the seed's) or ``"rest"``.
+    #[getter]
+    fn resting_contacts(&self) -> &'static str {
+        resting_contacts_name(self.inner.resting_contacts)
+    }
+
     /// The obstacles as configured (a moving one where it starts).
     #[getter]
     fn obstacles(&self) -> Vec<Obstacle> {
@@ -336,6 +359,7 @@ impl Config {
         parts.push(format!("mass_model={:?}", self.mass_model()));
         parts.push(format!("restitution_model={:?}", self.restitution_model()));
         parts.push(format!("velocity_update={:?}", self.velocity_update()));
+        parts.push(format!("resting_contacts={:?}", self.resting_contacts()));
         if !c.obstacles.is_empty() {
             parts.push(format!("obstacles=[{} obstacles]", c.obstacles.len()));
         }

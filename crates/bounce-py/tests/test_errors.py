@@ -39,12 +39,16 @@ def test_config_round_trips_its_options():
         mass_model="area",
         restitution_model="relative_normal_velocity",
         velocity_update="approaching_only",
+        resting_contacts="rest",
     )
     assert config.max == (10.0, 20.0) and config.wall_restitution == 0.5
     assert config.gravity == (0.0, -9.81) and config.solver_iterations == 4
     assert config.max_travel == 0.25 and config.mass_model == "area"
     assert config.restitution_model == "relative_normal_velocity"
     assert config.velocity_update == "approaching_only"
+    assert config.resting_contacts == "rest" and bounce.Config().resting_contacts == "bounce"
+    with pytest.raises(ValueError, match=r"`resting_contacts` = \"still\": must be one of"):
+        bounce.Config(resting_contacts="still")
     assert bounce.World(config).config == config
     assert "wall_restitution=0.5" in repr(config)
 

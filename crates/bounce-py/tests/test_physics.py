@@ -78,3 +78,32 @@ def test_a_scenario_run_from_python_ends_in_the_state_bounce_run_prints(
     loaded = bounce.World.load(tmp_path / "out" / "checkpoint.bin")
     assert f"{loaded.state_hash():016x}" == cli_hash
     assert loaded.step_count == steps
+
+
+@pytest.mark.parametrize("support", ["floor", "segment", "peg"])
+def test_a_resting_disc_keeps_g_h_under_the_seed_and_is_still_under_rest(support):
+    # A disc of radius 0.5 resting on its support under g = 10 at dt = 0.01: the seed's
+    # reflection leaves it moving at up to |g| dt; with resting_contacts = "rest" it is still.
+    obstacles = {
+        "floor": [],
+        "segment": [bounce.Obstacle.segment((0, 2), (10, 2))],
+        "peg": [bounce.Obstacle.peg((5, 1), 1.0)],
+    }[support]
+    base = 0.0 if support == "floor" else 2.0
+    speeds = {}
+    for rest in ("bounce", "rest"):
+        config = bounce.Config(
+            boundary="walls", min=(0, 0), max=(10, 20), gravity=(0, -10),
+            obstacles=obstacles, resting_contacts=rest,
+        )
+        world = bounce.World(config, dt=0.01)
+        world.add_discs([[5, base + 0.5]], [[0, 0]], 0.5)
+        top = 0.0
+        for _ in range(200):
+            world.step()
+            top = max(top, float(np.abs(world.velocities[0, 1])))
+        speeds[rest] = top
+        if rest == "rest":
+            assert world.positions[0, 1] == pytest.approx(base + 0.5, abs=1e-12)
+    assert speeds["bounce"] == pytest.approx(10 * 0.01, rel=1e-9)
+    assert speeds["rest"] == 0.0

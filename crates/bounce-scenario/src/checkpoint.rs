@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! "BOUNCE-CHECKPOINT\n"   18 bytes
-//! version                u32 LE (3)
+//! version                u32 LE (5)
 //! payload length         u64 LE
 //! checksum               u64 LE: FNV-1a 64 of the payload
 //! fingerprint            u64 LE: FNV-1a 64 of the configuration and the particle count
@@ -19,8 +19,9 @@ use serde::{Deserialize, Serialize};
 
 const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// Version 2 added the broadphase's reference positions; version 3 the checksum, the
-/// fingerprint and the run's output state; version 4 the contacts beside the collisions in it.
-const VERSION: u32 = 4;
+/// fingerprint and the run's output state; version 4 the contacts beside the collisions in it;
+/// version 5 the configuration's `resting_contacts`.
+const VERSION: u32 = 5;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -216,6 +217,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         mass_model,
         restitution_model,
         velocity_update,
+        resting_contacts,
         obstacles,
         emitters,
         sinks,
@@ -253,6 +255,11 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         f(&b.restitution_model),
     );
     differ("velocity_update", f(velocity_update), f(&b.velocity_update));
+    differ(
+        "resting_contacts",
+        f(resting_contacts),
+        f(&b.resting_contacts),
+    );
     differ("emitters", f(emitters), f(&b.emitters));
     differ("sinks", f(sinks), f(&b.sinks));
     if obstacles != &b.obstacles {

@@ -13,7 +13,9 @@ use std::path::Path;
 
 use bounce::law::Law;
 use bounce::scene::{self, Gas, Lattice, Speeds};
-use bounce::{Boundary, Config, MassModel, Particle, RestitutionModel, VelocityUpdate, World};
+use bounce::{
+    Boundary, Config, MassModel, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
+};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -138,6 +140,10 @@ pub struct WorldSpec {
     /// Default `all_detected` (the seed's).
     #[serde(default = "default_velocity_update")]
     pub velocity_update: VelocityUpdate,
+    /// Default `bounce` (the seed's); `rest` makes contacts slower than 4 substeps of
+    /// gravity's pull perfectly inelastic.
+    #[serde(default = "default_resting_contacts")]
+    pub resting_contacts: RestingContacts,
     /// Passes of detection and resolution per substep, default 1 (the seed's single pass).
     #[serde(default = "one_u32")]
     pub solver_iterations: u32,
@@ -471,6 +477,9 @@ fn default_restitution_model() -> RestitutionModel {
 fn default_velocity_update() -> VelocityUpdate {
     VelocityUpdate::AllDetected
 }
+fn default_resting_contacts() -> RestingContacts {
+    RestingContacts::Bounce
+}
 
 /// One problem in a scenario file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -725,6 +734,7 @@ impl Scenario {
             mass_model: w.mass_model,
             restitution_model: w.restitution_model,
             velocity_update: w.velocity_update,
+            resting_contacts: w.resting_contacts,
             obstacles: self
                 .obstacle
                 .iter()

@@ -5,7 +5,9 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
-use bounce::{MassModel, Obstacle, Particle, RestitutionModel, VelocityUpdate, World};
+use bounce::{
+    MassModel, Obstacle, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
+};
 use bounce_scenario::{ColorBy, Rgb, Session};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
@@ -346,6 +348,13 @@ impl ViewerApp {
             VelocityUpdate::ApproachingOnly
         } else {
             VelocityUpdate::AllDetected
+        };
+        let mut rest = config.resting_contacts == RestingContacts::Rest;
+        ui.checkbox(&mut rest, "resting contacts rest (no g·h jitter)");
+        config.resting_contacts = if rest {
+            RestingContacts::Rest
+        } else {
+            RestingContacts::Bounce
         };
         if config != before
             && let Err(e) = self.session.world.set_config(config)
@@ -976,6 +985,23 @@ mod tests {
         a.run_to(3);
         a.reset();
         assert_eq!(step_of(&a.status()), 0);
+    }
+
+    #[test]
+    fn a_scenario_with_resting_contacts_opens_with_them() {
+        let text = bounce_scenario::template("pile")
+            .unwrap()
+            .replace("[time]", "resting_contacts = \"rest\"\n\n[time]");
+        let mut a = app("gas");
+        assert_eq!(
+            a.session.world.config().resting_contacts,
+            RestingContacts::Bounce
+        );
+        a.open_text("pile.toml", &text).unwrap();
+        assert_eq!(
+            a.session.world.config().resting_contacts,
+            RestingContacts::Rest
+        );
     }
 
     #[test]

@@ -40,7 +40,7 @@ impl<'a> StepContext<'a> {
         StepContext {
             h,
             gravity: config.gravity,
-            law: Law::new(config),
+            law: Law::at_substep(config, h),
             geometry: Geometry::new(config),
             stack_order: (config.solver_iterations > 1 && config.gravity != [0.0, 0.0])
                 .then_some(config.gravity),

@@ -102,6 +102,7 @@ pub(crate) fn integrate(
             max,
             restitution: e,
         } => {
+            let e = law.restitution_of(e);
             // Radii are at most `max_radius`, so a disc whose centre is inside these bounds
             // touches no wall. They are widened by a billionth of the box's scale, far more
             // than the rounding of `reflect`'s `x - r < lo`, so they never skip a disc it
@@ -658,7 +659,11 @@ mod tests {
         // measures the same as the scalar sweep, for even and odd chunks, with strays below,
         // at and past the cap (the odd last disc tipping it over).
         use rand::{RngExt, SeedableRng};
-        let (min, max, r, e) = ([0.0, 0.0], [10.0, 10.0], 0.25, 0.8);
+        let (min, max, r) = ([0.0, 0.0], [10.0, 10.0], 0.25);
+        let e = crate::law::Restitution {
+            e: 0.8,
+            rest_below: None,
+        };
         let (inner_min, inner_max) = ([min[0] + r, min[1] + r], [max[0] - r, max[1] - r]);
         let boundary = move |_: usize,
                              [x, y, vx, vy]: &mut [f64; 4],

@@ -61,7 +61,7 @@ mod world;
 
 pub use config::{
     Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Motion,
-    Obstacle, ObstacleState, RestitutionModel, Shape, Sink, VelocityUpdate,
+    Obstacle, ObstacleState, RestingContacts, RestitutionModel, Shape, Sink, VelocityUpdate,
 };
 pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};

@@ -157,7 +157,7 @@ impl Rules {
             .chain((0..moving.len()).filter(|&k| moving[k]))
             .collect();
         Rules {
-            law: Law::new(config),
+            law: Law::at_substep(config, h),
             geometry: Geometry::new(config),
             gravity: config.gravity,
             stack_order: (config.solver_iterations > 1 && config.gravity != [0.0, 0.0])
@@ -192,7 +192,7 @@ fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
                 max,
                 restitution: e,
             } => {
-                let (r, m) = (p.radius[i], rules.mass(p, i));
+                let (r, m, e) = (p.radius[i], rules.mass(p, i), rules.law.restitution_of(e));
                 let (left, right) = reflect(&mut p.x[i], &mut p.vx[i], r, min[0], max[0], e, m);
                 let (bottom, top) = reflect(&mut p.y[i], &mut p.vy[i], r, min[1], max[1], e, m);
                 impulse.add([left, right, bottom, top]);
@@ -371,6 +371,7 @@ fn walls_as_contacts(p: &mut Particles, rules: &Rules) -> WallSums {
     else {
         return impulse;
     };
+    let e = rules.law.restitution_of(e);
     for i in 0..p.len() {
         let (r, m) = (p.radius[i], rules.mass(p, i));
         let [left, right] = touch_walls(p.x[i], &mut p.vx[i], r, m, min[0], max[0], e);

@@ -384,6 +384,7 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
         return WallSums::default();
     };
     let law = &ctx.law;
+    let e = law.restitution_of(e);
     let tally = ctx.tally;
     let (x, y, radius, mass) = (&p.x, &p.y, &p.radius, &p.mass);
     let mut chunks: Vec<(usize, &mut [f64], &mut [f64])> =

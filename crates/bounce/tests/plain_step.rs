@@ -1,12 +1,12 @@
 //! The fast step against the plain one (`bounce::plain`): random worlds under every boundary,
-//! mass, restitution and velocity-update option, polydisperse radii, obstacles fixed, moving
+//! mass, restitution, velocity-update and resting-contact option, polydisperse radii, obstacles fixed, moving
 //! and driven, emitters and sinks, several solver passes and adaptive substeps, stepped with
 //! both for 50 steps on 1 and 2 threads, must keep the same bits.
 
 use bounce::scene::{self, Gas, Speeds};
 use bounce::{
-    Boundary, Config, Emitter, MassModel, Motion, Obstacle, RestitutionModel, Sink, VelocityUpdate,
-    World, plain,
+    Boundary, Config, Emitter, MassModel, Motion, Obstacle, RestingContacts, RestitutionModel,
+    Sink, VelocityUpdate, World, plain,
 };
 use proptest::prelude::*;
 
@@ -17,6 +17,7 @@ struct Recipe {
     mass_model: u8,
     restitution_model: bool,
     approaching_only: bool,
+    rest: bool,
     restitution: f64,
     scale: f64,
     radius: [f64; 2],
@@ -34,7 +35,14 @@ struct Recipe {
 
 fn recipe() -> impl Strategy<Value = Recipe> {
     (
-        (0u8..3, 0u8..3, any::<bool>(), any::<bool>(), 0.5f64..=1.0),
+        (
+            0u8..3,
+            0u8..3,
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            0.5f64..=1.0,
+        ),
         (
             0.9f64..1.3,
             0.2f64..0.6,
@@ -52,7 +60,7 @@ fn recipe() -> impl Strategy<Value = Recipe> {
     )
         .prop_map(
             |(
-                (boundary, mass_model, restitution_model, approaching_only, restitution),
+                (boundary, mass_model, restitution_model, approaching_only, rest, restitution),
                 (scale, r_min, ratio, count, speed),
                 (gravity, wall_restitution, substeps, solver_iterations),
                 (max_travel, obstacles, sources, seed),
@@ -61,6 +69,7 @@ fn recipe() -> impl Strategy<Value = Recipe> {
                 mass_model,
                 restitution_model,
                 approaching_only,
+                rest,
                 restitution,
                 scale,
                 radius: [r_min, r_min * ratio],
@@ -156,6 +165,11 @@ fn config(r: &Recipe) -> Config {
             VelocityUpdate::ApproachingOnly
         } else {
             VelocityUpdate::AllDetected
+        },
+        resting_contacts: if r.rest {
+            RestingContacts::Rest
+        } else {
+            RestingContacts::Bounce
         },
         obstacles,
         emitters,

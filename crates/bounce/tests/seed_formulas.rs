@@ -13,6 +13,7 @@ fn seed_params(e: f64) -> Law {
         restitution_model: RestitutionModel::ScaleEachNormalVelocity,
         velocity_update: VelocityUpdate::AllDetected,
         mass_model: MassModel::Radius,
+        rest_below: None,
     }
 }
 

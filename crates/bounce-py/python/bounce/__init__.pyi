@@ -123,6 +123,7 @@ class Config:
         mass_model: Literal["radius", "area", "per_particle"] = ...,
         restitution_model: Literal["scale_each_normal_velocity", "relative_normal_velocity"] = ...,
         velocity_update: Literal["all_detected", "approaching_only"] = ...,
+        resting_contacts: Literal["bounce", "rest"] = ...,
         obstacles: Sequence[Obstacle] = ...,
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
@@ -155,6 +156,8 @@ class Config:
     def restitution_model(self) -> str: ...
     @property
     def velocity_update(self) -> str: ...
+    @property
+    def resting_contacts(self) -> str: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""

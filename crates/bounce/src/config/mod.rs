@@ -75,6 +75,10 @@ pub struct Config {
     /// Which detected pairs get the velocity update. Default [`VelocityUpdate::AllDetected`],
     /// the seed's.
     pub velocity_update: VelocityUpdate,
+    /// What a contact slower than the resting speed does (see [`RestingContacts`]). Default
+    /// [`RestingContacts::Bounce`], the seed's: every contact is resolved with its
+    /// restitution, however slow.
+    pub resting_contacts: RestingContacts,
     /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
     /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
     pub obstacles: Vec<Obstacle>,
@@ -100,6 +104,7 @@ impl Default for Config {
             mass_model: MassModel::Radius,
             restitution_model: RestitutionModel::ScaleEachNormalVelocity,
             velocity_update: VelocityUpdate::AllDetected,
+            resting_contacts: RestingContacts::Bounce,
             obstacles: Vec::new(),
             emitters: Vec::new(),
             sinks: Vec::new(),
@@ -214,6 +219,29 @@ pub enum VelocityUpdate {
     /// Only pairs whose relative normal velocity brings them closer. The usual choice in
     /// impulse-based engines: separating pairs only get the overlap push.
     ApproachingOnly,
+}
+
+/// What a **resting contact** does: a contact whose normal speed (towards or away from the
+/// other side) is at most the resting speed, 4 substeps of gravity's pull
+/// ([`crate::law::resting_speed`], the speed that also tells a step's `contacts` from its
+/// `collisions`). Without gravity no contact rests, and both choices are the seed's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestingContacts {
+    /// The seed's: every contact gets its restitution, however slow. Gravity pulls a disc
+    /// resting on the floor, a segment or a peg in by `|g| h` each substep, and the
+    /// reflection sends it back up at `e |g| h`: at the end of a step it moves at up to
+    /// `|g| h` (kinetic energy up to `½ m (g h)²`), and in a stack the exchange of normal
+    /// velocities passes that speed up and down (a stacked pair at `e = 1` gains up to a few
+    /// tenths of a percent of its energy over a run).
+    Bounce,
+    /// A resting contact is perfectly inelastic along its normal: a disc on a wall or an
+    /// obstacle leaves with the obstacle's normal velocity (it stops against a fixed one),
+    /// and a pair leaves with one common normal velocity, the pair's momentum kept (whatever
+    /// [`RestitutionModel`]). Faster contacts, impacts, keep the restitution. A disc resting
+    /// on the floor, a segment or a peg is then at rest at the end of every substep, and
+    /// resting contacts never add energy. Tangential velocities are kept, as always.
+    Rest,
 }
 
 /// A configuration value out of its allowed range.

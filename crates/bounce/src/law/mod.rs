@@ -10,7 +10,7 @@
 //!
 //! The model options of [`Config`] are the only departures from the seed, each off by default.
 
-use crate::config::{Config, MassModel, RestitutionModel, VelocityUpdate};
+use crate::config::{Config, MassModel, RestingContacts, RestitutionModel, VelocityUpdate};
 
 mod obstacle;
 mod pair;
@@ -53,10 +53,17 @@ pub struct Law {
     pub velocity_update: VelocityUpdate,
     /// The mass each disc has in the collision.
     pub mass_model: MassModel,
+    /// The normal speed at or below which a contact rests (is resolved as perfectly
+    /// inelastic; see [`RestingContacts::Rest`]): `None`, no contact rests, under the seed's
+    /// [`RestingContacts::Bounce`], without gravity, and in a law from [`Law::new`], which
+    /// knows no substep; the [`resting_speed`] of the substep in one from [`Law::at_substep`].
+    pub rest_below: Option<f64>,
 }
 
 impl Law {
-    /// The law `config` describes (which should be valid: see [`Config::validate`]).
+    /// The law `config` describes (which should be valid: see [`Config::validate`]), at no
+    /// particular substep: what detection and placement need. Resting contacts depend on the
+    /// substep, and here none rests; the law a step applies is [`Law::at_substep`].
     pub fn new(config: &Config) -> Law {
         Law {
             collision_radius_scale: config.collision_radius_scale,
@@ -64,6 +71,37 @@ impl Law {
             restitution_model: config.restitution_model,
             velocity_update: config.velocity_update,
             mass_model: config.mass_model,
+            rest_below: None,
+        }
+    }
+
+    /// The law a substep of length `h` under `config` applies: [`Law::new`] with, under
+    /// [`RestingContacts::Rest`] and gravity, the contacts at or below the
+    /// [`resting_speed`] resting.
+    ///
+    /// ```
+    /// use bounce::{Config, RestingContacts, law::Law};
+    /// let config = Config { gravity: [0.0, -10.0], ..Config::default() };
+    /// assert_eq!(Law::at_substep(&config, 0.01).rest_below, None);
+    /// let rest = Config { resting_contacts: RestingContacts::Rest, ..config };
+    /// assert_eq!(Law::at_substep(&rest, 0.01).rest_below, Some(0.4));
+    /// ```
+    pub fn at_substep(config: &Config, h: f64) -> Law {
+        let speed = resting_speed(config.gravity, h);
+        Law {
+            rest_below: (config.resting_contacts == RestingContacts::Rest && speed > 0.0)
+                .then_some(speed),
+            ..Law::new(config)
+        }
+    }
+
+    /// The restitution `e` of a wall or an obstacle as this law applies it: see
+    /// [`Restitution`].
+    #[inline(always)]
+    pub fn restitution_of(&self, e: f64) -> Restitution {
+        Restitution {
+            e,
+            rest_below: self.rest_below,
         }
     }
 
@@ -132,6 +170,28 @@ impl Law {
     #[inline(always)]
     pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {
         resolve_pair(diff, a, b, self)
+    }
+}
+
+/// A wall's or an obstacle's restitution `e` as a step applies it: a disc meeting it at a
+/// normal speed at or below `rest_below` (a resting contact, [`RestingContacts::Rest`]) gets
+/// restitution 0 instead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Restitution {
+    /// The restitution of impacts.
+    pub e: f64,
+    /// The normal speed at or below which a contact rests ([`Law::rest_below`]).
+    pub rest_below: Option<f64>,
+}
+
+impl Restitution {
+    /// The restitution of a contact met at normal speed `speed` (`>= 0`).
+    #[inline(always)]
+    pub fn at(self, speed: f64) -> f64 {
+        match self.rest_below {
+            Some(rest) if speed <= rest => 0.0,
+            _ => self.e,
+        }
     }
 }
 

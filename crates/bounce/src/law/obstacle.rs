@@ -3,7 +3,8 @@
 //! of the segment's nearest point, and with a peg of radius `R` within `(r + R) *
 //! collision_radius_scale` of its centre; it is pushed out of the overlap by the whole
 //! amount, and if it moves into the obstacle (in the obstacle's frame) its normal velocity
-//! is reversed and scaled by the obstacle's restitution. A disc already leaving is not
+//! is reversed and scaled by the obstacle's restitution (0 for a resting contact, see
+//! [`crate::RestingContacts`]). A disc already leaving is not
 //! turned back: with an immovable partner the seed's step 6 would send it in again.
 
 use crate::config::Shape;
@@ -102,7 +103,7 @@ pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut 
     if vn >= 0.0 {
         return [0.0, 0.0];
     }
-    let dv = -(1.0 + e) * vn;
+    let dv = -(1.0 + law.restitution_of(e).at(-vn)) * vn;
     velocity[0] += dv * n[0];
     velocity[1] += dv * n[1];
     [-m * dv * n[0], -m * dv * n[1]]
@@ -182,6 +183,46 @@ mod tests {
         let mut d = disc([1.2, 0.0], [2.0, 0.0], 0.5, 2.0);
         assert_eq!(collide(&peg, [0.0; 2], 0.8, &law(), &mut d), [0.0, 0.0]);
         assert_eq!((d.position, d.velocity), ([1.5, 0.0], [2.0, 0.0]));
+    }
+
+    #[test]
+    fn a_resting_disc_stops_on_a_segment_or_a_peg_and_an_impact_bounces() {
+        // Resting below 0.4 (gravity 10, substep 0.01): pulled into the floor at 0.1, the
+        // disc stops on it; the floor takes its momentum. Arriving at 0.5, it bounces.
+        let law = Law::at_substep(
+            &Config {
+                gravity: [0.0, -10.0],
+                resting_contacts: crate::RestingContacts::Rest,
+                ..Config::default()
+            },
+            0.01,
+        );
+        let floor = Shape::Segment {
+            a: [-5.0, 0.0],
+            b: [5.0, 0.0],
+        };
+        let mut d = disc([1.0, 0.499], [2.0, -0.1], 0.5, 3.0);
+        let j = collide(&floor, [0.0; 2], 0.9, &law, &mut d);
+        assert_eq!((d.position, d.velocity), ([1.0, 0.5], [2.0, 0.0]));
+        assert_eq!(j, [-0.0, -0.30000000000000004]);
+        let mut d = disc([1.0, 0.499], [2.0, -0.5], 0.5, 3.0);
+        collide(&floor, [0.0; 2], 0.9, &law, &mut d);
+        assert!(d.velocity[0] == 2.0 && (d.velocity[1] - 0.45).abs() < 1e-15);
+        // On top of a peg, the same; on a floor rising at 1 the disc leaves at its speed.
+        let peg = Shape::Peg {
+            centre: [0.0, 0.0],
+            radius: 1.0,
+        };
+        let mut d = disc([0.0, 1.499], [0.0, -0.2], 0.5, 1.0);
+        collide(&peg, [0.0; 2], 1.0, &law, &mut d);
+        assert_eq!(d.velocity, [0.0, 0.0]);
+        let mut d = disc([0.0, 0.499], [0.0, 0.9], 0.5, 1.0);
+        collide(&floor, [0.0, 1.0], 1.0, &law, &mut d);
+        assert_eq!(d.velocity, [0.0, 1.0]);
+        // Without the option (or gravity), the seed's bounce however slow.
+        let mut d = disc([1.0, 0.499], [2.0, -0.1], 0.5, 3.0);
+        collide(&floor, [0.0; 2], 0.9, &self::law(), &mut d);
+        assert_eq!(d.velocity, [2.0, 0.09]);
     }
 
     #[test]

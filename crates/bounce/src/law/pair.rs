@@ -115,7 +115,18 @@ pub(crate) fn resolve_lanes<L: Lanes>(
 
     // Step 6: the 1D elastic collision with the masses, then the restitution.
     let [m1, m2] = mass;
+    let approach = v2n - v1n;
     let e = L::splat(law.restitution);
+    // A resting contact (`RestingContacts::Rest`), approaching or separating no faster than
+    // `rest_below`, gets restitution 0.
+    let e = match law.rest_below {
+        None => e,
+        Some(rest) => {
+            let rest = L::splat(rest);
+            let approaching_fast = L::select(approach.gt(rest), e, zero);
+            L::select(approach.lt(-rest), e, approaching_fast)
+        }
+    };
     let (v1n_new, v2n_new) = match law.restitution_model {
         RestitutionModel::ScaleEachNormalVelocity => (
             (v1n * (m1 - m2) + two * m2 * v2n) / (m1 + m2) * e,
@@ -146,14 +157,14 @@ pub(crate) fn resolve_lanes<L: Lanes>(
             push,
             v1: keep(v1, va),
             v2: keep(v2, vb),
-            approach: v2n - v1n,
+            approach,
         };
     }
     LaneResolution {
         push,
         v1,
         v2,
-        approach: v2n - v1n,
+        approach,
     }
 }
 
@@ -195,13 +206,19 @@ mod tests {
             RestitutionModel::ScaleEachNormalVelocity,
             RestitutionModel::RelativeNormalVelocity,
         ] {
-            for velocity_update in [VelocityUpdate::AllDetected, VelocityUpdate::ApproachingOnly] {
+            for (velocity_update, rest_below) in [
+                (VelocityUpdate::AllDetected, None),
+                (VelocityUpdate::ApproachingOnly, None),
+                (VelocityUpdate::AllDetected, Some(1.5)),
+                (VelocityUpdate::ApproachingOnly, Some(1.5)),
+            ] {
                 let law = Law {
                     collision_radius_scale: 1.1,
                     restitution: 0.8,
                     restitution_model,
                     velocity_update,
                     mass_model: MassModel::Radius,
+                    rest_below,
                 };
                 for _ in 0..2000 {
                     let (one, two) = (bodies(&mut next), bodies(&mut next));

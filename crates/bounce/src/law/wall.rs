@@ -1,15 +1,18 @@
 //! What a wall does to a disc: the walls' one restitution rule (a disc moving into a wall
-//! leaves with its normal velocity reversed and scaled by the walls' restitution, the
-//! momentum it gave recorded) and the hold that keeps a centre its radius inside them. The
+//! leaves with its normal velocity reversed and scaled by the walls' restitution, or
+//! stopped when it rests, the momentum it gave recorded) and the hold that keeps a centre its radius inside them. The
 //! integration's reflection, the solver's walls as contacts and its hold after a push all
 //! apply these.
 
 use crate::lanes::Lanes;
 
+use super::Restitution;
+
 /// One axis of the walls; returns the impulse given to the low and the high wall.
 ///
 /// A disc whose centre is within its radius of a wall is put back at that distance, and its
-/// normal velocity, if it still moves into the wall, is reversed and scaled by `e`.
+/// normal velocity, if it still moves into the wall, is reversed and scaled by `e` (see
+/// [`bounce`]).
 #[inline]
 pub(crate) fn reflect(
     x: &mut f64,
@@ -17,7 +20,7 @@ pub(crate) fn reflect(
     r: f64,
     lo: f64,
     hi: f64,
-    e: f64,
+    e: Restitution,
     m: f64,
 ) -> (f64, f64) {
     if *x - r < lo {
@@ -45,7 +48,7 @@ pub(crate) fn touch_walls(
     m: f64,
     lo: f64,
     hi: f64,
-    e: f64,
+    e: Restitution,
 ) -> [f64; 2] {
     if position <= lo + r && *v < 0.0 {
         [bounce(v, e, m), 0.0]
@@ -57,10 +60,11 @@ pub(crate) fn touch_walls(
 }
 
 /// A wall's bounce of a disc of mass `m` moving into it at normal velocity `v`: reversed and
-/// scaled by `e`. Returns the momentum given to the wall, `m |Δv|`.
+/// scaled by `e`'s restitution at that speed (0 for a resting contact: the disc stops).
+/// Returns the momentum given to the wall, `m |Δv|`.
 #[inline]
-pub(crate) fn bounce(v: &mut f64, e: f64, m: f64) -> f64 {
-    let new_v = -*v * e;
+pub(crate) fn bounce(v: &mut f64, e: Restitution, m: f64) -> f64 {
+    let new_v = -*v * e.at(v.abs());
     let impulse = m * (new_v - *v).abs();
     *v = new_v;
     impulse
@@ -80,10 +84,17 @@ pub(crate) fn hold<L: Lanes>(v: L, r: L, lo: f64, hi: f64) -> L {
 mod tests {
     use super::*;
 
+    fn e(e: f64) -> Restitution {
+        Restitution {
+            e,
+            rest_below: None,
+        }
+    }
+
     #[test]
     fn a_wall_reflects_and_records_the_impulse() {
         let (mut x, mut v) = (0.2, -3.0);
-        let (low, high) = reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 0.5, 2.0);
+        let (low, high) = reflect(&mut x, &mut v, 0.5, 0.0, 10.0, e(0.5), 2.0);
         assert_eq!((x, v), (0.5, 1.5));
         assert_eq!((low, high), (2.0 * 4.5, 0.0));
     }
@@ -92,10 +103,36 @@ mod tests {
     fn a_disc_leaving_the_wall_keeps_its_velocity() {
         let (mut x, mut v) = (9.8, -1.0);
         assert_eq!(
-            reflect(&mut x, &mut v, 0.5, 0.0, 10.0, 1.0, 1.0),
+            reflect(&mut x, &mut v, 0.5, 0.0, 10.0, e(1.0), 1.0),
             (0.0, 0.0)
         );
         assert_eq!((x, v), (9.5, -1.0));
+    }
+
+    #[test]
+    fn a_resting_disc_stops_at_the_wall_and_an_impact_bounces() {
+        // Resting below 0.4: a disc pulled into the floor at 0.1 stops there, giving the
+        // wall its momentum m 0.1; one arriving at 3 bounces at e = 0.5.
+        let rest = Restitution {
+            e: 0.5,
+            rest_below: Some(0.4),
+        };
+        let (mut y, mut v) = (0.49, -0.1);
+        let (low, _) = reflect(&mut y, &mut v, 0.5, 0.0, 10.0, rest, 2.0);
+        assert_eq!((y, v.to_bits(), low), (0.5, 0.0f64.to_bits(), 2.0 * 0.1));
+        let (mut y, mut v) = (9.6, 0.4);
+        let (_, high) = reflect(&mut y, &mut v, 0.5, 0.0, 10.0, rest, 2.0);
+        assert_eq!((y, v, high), (9.5, 0.0, 2.0 * 0.4));
+        let (mut y, mut v) = (0.2, -3.0);
+        reflect(&mut y, &mut v, 0.5, 0.0, 10.0, rest, 2.0);
+        assert_eq!(v, 1.5);
+        // As a contact of a later pass, the same.
+        let mut v = -0.3;
+        assert_eq!(
+            touch_walls(0.5, &mut v, 0.5, 1.0, 0.0, 10.0, rest),
+            [0.3, 0.0]
+        );
+        assert_eq!(v, 0.0);
     }
 
     #[test]
