@@ -210,11 +210,7 @@ fn model_options() -> Check {
         restitution_model: RestitutionModel::RelativeNormalVelocity,
         ..seed
     };
-    let moving = Body {
-        velocity: [1.0, 0.0],
-        radius: 1.0,
-        mass: 1.0,
-    };
+    let moving = Body::new([1.0, 0.0], 1.0, 1.0);
     let resting = Body {
         velocity: [0.0, 0.0],
         ..moving

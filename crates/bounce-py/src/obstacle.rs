@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 ///
 /// Make one with :meth:`Obstacle.segment` or :meth:`Obstacle.peg`; :func:`polyline` and
 /// :func:`rectangle` make lists of segments. ``restitution=None`` uses the world's
-/// coefficient of restitution. Pass them as ``Config(obstacles=[...])`` or to
+/// coefficient of restitution, ``friction=None`` the world's friction. Pass them as ``Config(obstacles=[...])`` or to
 /// :meth:`World.add_obstacles`.
 #[pyclass(module = "bounce", name = "Obstacle", frozen)]
 #[derive(Clone)]
@@ -52,7 +52,7 @@ fn checked(obstacle: RustObstacle) -> PyResult<Obstacle> {
 
 fn with(
     obstacles: Vec<RustObstacle>,
-    restitution: Option<f64>,
+    [restitution, friction]: [Option<f64>; 2],
     velocity: Option<(f64, f64)>,
 ) -> PyResult<Vec<Obstacle>> {
     let motion = motion(velocity, None, None)?;
@@ -60,6 +60,7 @@ fn with(
         .into_iter()
         .map(|mut o| {
             o.restitution = restitution;
+            o.friction = friction;
             o.motion = motion;
             checked(o)
         })
@@ -70,7 +71,8 @@ fn with(
 impl Obstacle {
     /// The segment from ``a`` to ``b``.
     #[staticmethod]
-    #[pyo3(signature = (a, b, *, restitution = None, velocity = None, force = None, mass = None))]
+    #[pyo3(signature = (a, b, *, restitution = None, velocity = None, force = None, mass = None, friction = None))]
+    #[allow(clippy::too_many_arguments)]
     fn segment(
         a: (f64, f64),
         b: (f64, f64),
@@ -78,6 +80,7 @@ impl Obstacle {
         velocity: Option<(f64, f64)>,
         force: Option<(f64, f64)>,
         mass: Option<f64>,
+        friction: Option<f64>,
     ) -> PyResult<Obstacle> {
         checked(RustObstacle {
             shape: Shape::Segment {
@@ -86,12 +89,14 @@ impl Obstacle {
             },
             restitution,
             motion: motion(velocity, force, mass)?,
+            friction,
         })
     }
 
     /// A peg: a fixed (or moving) disc of ``radius`` at ``centre``.
     #[staticmethod]
-    #[pyo3(signature = (centre, radius, *, restitution = None, velocity = None, force = None, mass = None))]
+    #[pyo3(signature = (centre, radius, *, restitution = None, velocity = None, force = None, mass = None, friction = None))]
+    #[allow(clippy::too_many_arguments)]
     fn peg(
         centre: (f64, f64),
         radius: f64,
@@ -99,6 +104,7 @@ impl Obstacle {
         velocity: Option<(f64, f64)>,
         force: Option<(f64, f64)>,
         mass: Option<f64>,
+        friction: Option<f64>,
     ) -> PyResult<Obstacle> {
         checked(RustObstacle {
             shape: Shape::Peg {
@@ -107,6 +113,7 @@ impl Obstacle {
             },
             restitution,
             motion: motion(velocity, force, mass)?,
+            friction,
         })
     }
 
@@ -152,15 +159,24 @@ impl Obstacle {
         self.inner.restitution
     }
 
+    /// Its friction coefficient (``None``: the world's).
+    #[getter]
+    fn friction(&self) -> Option<f64> {
+        self.inner.friction
+    }
+
     fn __eq__(&self, other: &Obstacle) -> bool {
         self.inner == other.inner
     }
 
     fn __repr__(&self) -> String {
-        let extra = match self.inner.restitution {
+        let mut extra = match self.inner.restitution {
             Some(e) => format!(", restitution={e}"),
             None => String::new(),
         };
+        if let Some(mu) = self.inner.friction {
+            extra += &format!(", friction={mu}");
+        }
         let motion = match self.inner.motion {
             Motion::Fixed => String::new(),
             Motion::Velocity(v) => format!(", velocity=({}, {})", v[0], v[1]),
@@ -189,12 +205,13 @@ impl Obstacle {
 /// The segments joining consecutive ``points`` (and the last back to the first when
 /// ``closed``).
 #[pyfunction]
-#[pyo3(signature = (points, closed = false, *, restitution = None, velocity = None))]
+#[pyo3(signature = (points, closed = false, *, restitution = None, velocity = None, friction = None))]
 pub fn polyline(
     points: Vec<(f64, f64)>,
     closed: bool,
     restitution: Option<f64>,
     velocity: Option<(f64, f64)>,
+    friction: Option<f64>,
 ) -> PyResult<Vec<Obstacle>> {
     if points.len() < 2 {
         return Err(PyValueError::new_err(format!(
@@ -205,24 +222,25 @@ pub fn polyline(
     let points: Vec<[f64; 2]> = points.iter().map(|p| [p.0, p.1]).collect();
     with(
         RustObstacle::polyline(&points, closed),
-        restitution,
+        [restitution, friction],
         velocity,
     )
 }
 
 /// The four sides of a box of ``size`` centred at ``centre``, rotated by ``angle`` radians.
 #[pyfunction]
-#[pyo3(signature = (centre, size, angle = 0.0, *, restitution = None, velocity = None))]
+#[pyo3(signature = (centre, size, angle = 0.0, *, restitution = None, velocity = None, friction = None))]
 pub fn rectangle(
     centre: (f64, f64),
     size: (f64, f64),
     angle: f64,
     restitution: Option<f64>,
     velocity: Option<(f64, f64)>,
+    friction: Option<f64>,
 ) -> PyResult<Vec<Obstacle>> {
     with(
         RustObstacle::rectangle([centre.0, centre.1], [size.0, size.1], angle),
-        restitution,
+        [restitution, friction],
         velocity,
     )
 }

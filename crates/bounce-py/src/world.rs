@@ -280,10 +280,12 @@ impl World {
         let radii = per_disc("radii", radii)?;
         let masses = masses.map(|m| per_disc("masses", m)).transpose()?;
         let discs = (0..n).map(|k| Particle {
-            position: [positions[2 * k], positions[2 * k + 1]],
-            velocity: [velocities[2 * k], velocities[2 * k + 1]],
-            radius: radii[k],
             mass: masses.as_ref().map(|m| m[k]),
+            ..Particle::new(
+                [positions[2 * k], positions[2 * k + 1]],
+                [velocities[2 * k], velocities[2 * k + 1]],
+                radii[k],
+            )
         });
         let ids = self
             .get_mut()

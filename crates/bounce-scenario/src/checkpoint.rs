@@ -20,8 +20,9 @@ use serde::{Deserialize, Serialize};
 const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// Version 2 added the broadphase's reference positions; version 3 the checksum, the
 /// fingerprint and the run's output state; version 4 the contacts beside the collisions in it;
-/// version 5 the configuration's `resting_contacts`.
-const VERSION: u32 = 5;
+/// version 5 the configuration's `resting_contacts`; version 6 rough discs (friction in the
+/// configuration, the discs' angular velocities and orientations, the friction work).
+const VERSION: u32 = 6;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -218,6 +219,11 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         restitution_model,
         velocity_update,
         resting_contacts,
+        friction,
+        wall_friction,
+        tangential_restitution,
+        rolling_resistance,
+        inertia_factor,
         obstacles,
         emitters,
         sinks,
@@ -260,6 +266,19 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         f(resting_contacts),
         f(&b.resting_contacts),
     );
+    differ("friction", f(friction), f(&b.friction));
+    differ("wall_friction", f(wall_friction), f(&b.wall_friction));
+    differ(
+        "tangential_restitution",
+        f(tangential_restitution),
+        f(&b.tangential_restitution),
+    );
+    differ(
+        "rolling_resistance",
+        f(rolling_resistance),
+        f(&b.rolling_resistance),
+    );
+    differ("inertia_factor", f(inertia_factor), f(&b.inertia_factor));
     differ("emitters", f(emitters), f(&b.emitters));
     differ("sinks", f(sinks), f(&b.sinks));
     if obstacles != &b.obstacles {

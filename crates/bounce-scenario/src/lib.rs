@@ -147,6 +147,22 @@ pub struct WorldSpec {
     /// Passes of detection and resolution per substep, default 1 (the seed's single pass).
     #[serde(default = "one_u32")]
     pub solver_iterations: u32,
+    /// Coulomb friction of disc–disc contacts, default 0 (the seed's smooth discs); with
+    /// any friction or rolling resistance the discs are rough and rotate.
+    #[serde(default)]
+    pub friction: f64,
+    /// Friction at the walls; default `friction`.
+    #[serde(default)]
+    pub wall_friction: Option<f64>,
+    /// Walton's tangential restitution in `[-1, 1]`, default 0 (slip removed).
+    #[serde(default)]
+    pub tangential_restitution: f64,
+    /// Rolling resistance, default 0.
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    /// `k` in the moment of inertia `k m r²`, default 0.5 (a solid disc).
+    #[serde(default = "half")]
+    pub inertia_factor: f64,
 }
 
 /// The kind of boundary.
@@ -240,6 +256,9 @@ pub struct GasSpec {
     /// Remove the net momentum the random velocities leave (then add `drift`); default false.
     #[serde(default)]
     pub zero_momentum: bool,
+    /// Angular velocities uniform in `[-spin, spin]`; default 0 (no spin).
+    #[serde(default)]
+    pub spin: f64,
     /// Colour of these discs (`#rrggbb` or a name).
     #[serde(default)]
     pub color: Option<String>,
@@ -323,6 +342,9 @@ pub struct DiscSpec {
     /// Mass (used with `mass_model = "per_particle"`).
     #[serde(default)]
     pub mass: Option<f64>,
+    /// Angular velocity (counter-clockwise, radians per time unit), default 0.
+    #[serde(default)]
+    pub angular_velocity: f64,
     /// Colour.
     #[serde(default)]
     pub color: Option<String>,
@@ -464,6 +486,9 @@ fn default_boundary() -> BoundaryKind {
 }
 fn one() -> f64 {
     1.0
+}
+fn half() -> f64 {
+    0.5
 }
 fn one_u32() -> u32 {
     1
@@ -735,6 +760,11 @@ impl Scenario {
             restitution_model: w.restitution_model,
             velocity_update: w.velocity_update,
             resting_contacts: w.resting_contacts,
+            friction: w.friction,
+            wall_friction: w.wall_friction,
+            tangential_restitution: w.tangential_restitution,
+            rolling_resistance: w.rolling_resistance,
+            inertia_factor: w.inertia_factor,
             obstacles: self
                 .obstacle
                 .iter()
@@ -1199,6 +1229,9 @@ impl Scenario {
                     if spec.zero_momentum {
                         scene::zero_momentum(&mut discs, &config, spec.drift);
                     }
+                    if spec.spin != 0.0 {
+                        scene::spin(&mut discs, spec.spin, spec.seed);
+                    }
                     add(
                         discs,
                         (&spec.color, &spec.kind),
@@ -1263,10 +1296,9 @@ impl Scenario {
                 Entry::Disc(k) => {
                     let spec = self.disc[k].get_ref();
                     let disc = Particle {
-                        position: spec.position,
-                        velocity: spec.velocity,
-                        radius: spec.radius,
                         mass: spec.mass,
+                        angular_velocity: spec.angular_velocity,
+                        ..Particle::new(spec.position, spec.velocity, spec.radius)
                     };
                     add(
                         vec![disc],

@@ -44,6 +44,9 @@ pub struct ObstacleSpec {
     /// Restitution of discs hitting it; default the world's coefficient of restitution.
     #[serde(default)]
     pub restitution: Option<f64>,
+    /// Friction of discs against it; default the world's `friction`.
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Moves at this constant velocity (a piston driven at a prescribed speed), or starts
     /// at it when `force` is given.
     #[serde(default)]
@@ -245,6 +248,7 @@ impl ObstacleSpec {
         };
         for o in &mut out {
             o.restitution = self.restitution;
+            o.friction = self.friction;
             o.motion = motion;
         }
         out

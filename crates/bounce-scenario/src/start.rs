@@ -268,6 +268,8 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
             velocity: [velocity[2 * k], velocity[2 * k + 1]],
             radius: diameter[k] / 2.0,
             mass: mass.as_ref().map(|m| m[k]),
+            angular_velocity: 0.0,
+            orientation: 0.0,
         })
         .collect();
     Ok(FileDiscs {
@@ -334,6 +336,8 @@ fn read_csv(path: &Path) -> Result<FileDiscs, String> {
                 None | Some("") => None,
                 Some(_) => Some(number(5, None)?),
             },
+            angular_velocity: 0.0,
+            orientation: 0.0,
         };
         disc.validate_values()
             .map_err(|e| format!("line {line}: {e}"))?;

@@ -19,8 +19,8 @@ use crate::broadphase::{Moved, Reference, max_strays};
 use crate::context::StepContext;
 use crate::geometry::{Geometry, MinImage, wrap};
 use crate::lanes::{F64x2, Lanes, max_skipping_nan};
-use crate::law::reflect;
-use crate::parallel::{CHUNK, Executor};
+use crate::law::{Rough, reflect, rub_walls};
+use crate::parallel::{CHUNK, Executor, SharedSlice};
 use crate::particles::Particles;
 use crate::sum::WallSums;
 
@@ -54,6 +54,9 @@ pub(crate) fn integrate(
     let law = ctx.law;
     let tally = ctx.tally;
     let (radius, mass) = (&p.radius, &p.mass);
+    // Rough walls turn the discs that bounce (each chunk its own).
+    let rubbing = law.rough.filter(|rough| rough.rubs_walls());
+    let omega = &SharedSlice::new(&mut p.omega);
     let mut chunks: Vec<Chunk> =
         p.x.chunks_mut(CHUNK)
             .zip(p.y.chunks_mut(CHUNK))
@@ -130,7 +133,14 @@ pub(crate) fn integrate(
                         let (left, right) = reflect(x, vx, r, min[0], max[0], e, m);
                         let (bottom, top) = reflect(y, vy, r, min[1], max[1], e, m);
                         if left != 0.0 || right != 0.0 || bottom != 0.0 || top != 0.0 {
-                            record_hit(impulse, [left, right, bottom, top], [*x, *y], tally);
+                            let hits = [left, right, bottom, top];
+                            record_hit(impulse, hits, [*x, *y], tally);
+                            if let Some(rough) = &rubbing {
+                                // SAFETY: disc `i` is this chunk's alone.
+                                unsafe {
+                                    rub(hits, [x, y, vx, vy], omega, i, r, m, rough, impulse, tally)
+                                };
+                            }
                         }
                     }
                 },
@@ -174,6 +184,63 @@ fn record_hit(
 ) {
     if tally.is_none_or(|t| t.counts(x, y)) {
         impulse.add(hit);
+    }
+}
+
+/// Rough walls' friction on disc `i` after it bounced with `hits` ([`rub_walls`]), the
+/// energy removed added to `impulse` where the tally counts the disc.
+///
+/// # Safety
+/// No other thread touches `omega[i]` meanwhile, and `i` is in bounds.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+unsafe fn rub(
+    hits: [f64; 4],
+    [x, y, vx, vy]: [&mut f64; 4],
+    omega: &SharedSlice<f64>,
+    i: usize,
+    r: f64,
+    m: f64,
+    rough: &Rough,
+    impulse: &mut WallSums,
+    tally: Option<crate::part::Tally>,
+) {
+    let mut velocity = [*vx, *vy];
+    // SAFETY: as the caller promises.
+    let mut w = unsafe { omega.get(i) };
+    let work = rub_walls(hits, &mut velocity, &mut w, r, m, rough);
+    // SAFETY: as the caller promises.
+    unsafe { omega.set(i, w) };
+    [*vx, *vy] = velocity;
+    if tally.is_none_or(|t| t.counts(*x, *y)) {
+        impulse.friction.add(work);
+    }
+}
+
+/// Each disc's orientation turned by its angular velocity over `h`, kept within one turn,
+/// in fixed chunks (discs that turn only).
+pub(crate) fn turn(p: &mut Particles, h: f64, exec: &Executor) {
+    let mut chunks: Vec<_> = p
+        .theta
+        .chunks_mut(CHUNK)
+        .zip(p.omega.chunks(CHUNK))
+        .collect();
+    exec.for_each_mut(p.x.len(), &mut chunks, |_, (theta, omega)| {
+        for (theta, &w) in theta.iter_mut().zip(omega.iter()) {
+            *theta = turned(*theta, w, h);
+        }
+    });
+}
+
+/// An orientation `theta` turned at `omega` for `h`, kept within one turn (`[0, 2π]`).
+#[inline(always)]
+pub(crate) fn turned(theta: f64, omega: f64, h: f64) -> f64 {
+    let turned = theta + omega * h;
+    // One remainder per turn, not per substep.
+    if (0.0..std::f64::consts::TAU).contains(&turned) {
+        turned
+    } else {
+        turned.rem_euclid(std::f64::consts::TAU)
     }
 }
 

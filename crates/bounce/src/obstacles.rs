@@ -19,17 +19,19 @@ use crate::config::{Config, Motion, ObstacleState, Shape};
 use crate::context::StepContext;
 use crate::geometry::MinImage;
 use crate::law::{Disc, Law, collide, nearest, reach_of, touches};
-use crate::parallel::CHUNK;
+use crate::parallel::{CHUNK, SharedSlice};
 use crate::particles::Particles;
 use crate::sum::ExactSum;
 
-/// The obstacles in the form the step uses: the current shapes, the restitutions, and the
+/// The obstacles in the form the step uses: the current shapes, the restitutions and
+/// frictions, and the
 /// grid over the fixed ones. Built by the world when the configuration or the largest disc
 /// changes.
 #[derive(Debug, Default)]
 pub(crate) struct Obstacles {
     shapes: Vec<Shape>,
-    restitution: Vec<f64>,
+    /// Each one's restitution and friction coefficient.
+    surface: Vec<[f64; 2]>,
     /// Indices of the moving obstacles, tested against every disc.
     moving: Vec<u32>,
     /// Indices of the fixed ones, ascending: what a path longer than `cross_reach` may cross.
@@ -69,9 +71,12 @@ impl Obstacles {
             .zip(states)
             .map(|(o, s)| o.shifted(s.offset))
             .collect();
-        let restitution = list
+        let surface = list
             .iter()
-            .map(|o| o.restitution.unwrap_or(config.coefficient_of_restitution))
+            .map(|o| {
+                let e = o.restitution.unwrap_or(config.coefficient_of_restitution);
+                [e, config.obstacle_friction(o)]
+            })
             .collect();
         let moving = (0..list.len() as u32)
             .filter(|&k| list[k as usize].motion != Motion::Fixed)
@@ -84,7 +89,7 @@ impl Obstacles {
         Obstacles {
             has_segments,
             shapes,
-            restitution,
+            surface,
             moving,
             fixed,
             cross_reach: 2.0 * law.reach(max_radius),
@@ -226,6 +231,8 @@ pub(crate) struct Impacts {
     pub list: Vec<(u32, [f64; 2])>,
     /// Work done on the discs by moving obstacles, `Σ J_disc · u`, summed exactly.
     pub work: ExactSum,
+    /// The energy friction at the obstacles removed (rough discs), summed exactly.
+    pub friction: ExactSum,
 }
 
 /// What the obstacles received over a step: the momentum of each, and the work moving ones
@@ -234,6 +241,8 @@ pub(crate) struct Impacts {
 pub(crate) struct Met {
     pub impulses: Vec<[f64; 2]>,
     pub work: f64,
+    /// The energy their friction removed.
+    pub friction: ExactSum,
 }
 
 impl Met {
@@ -242,6 +251,7 @@ impl Met {
         Met {
             impulses: vec![[0.0; 2]; count],
             work: 0.0,
+            friction: ExactSum::new(),
         }
     }
 }
@@ -272,6 +282,7 @@ pub(crate) fn take_impacts(
     met: &mut Met,
 ) {
     met.work += impacts.work.value();
+    met.friction.merge(&impacts.friction);
     impacts.list.sort_by_key(|&(k, _)| k);
     for hits in impacts.list.chunk_by(|a, b| a.0 == b.0) {
         let k = hits[0].0 as usize;
@@ -327,6 +338,10 @@ pub(crate) fn resolve_obstacles(
     let radius = &p.radius;
     let mass = &p.mass;
     let n = p.x.len();
+    // (Empty for smooth discs.)
+    let omega = SharedSlice::new(&mut p.omega);
+    let turning = p.turning;
+    let omega = &omega;
     // Without a trail (no segments), the chunks of the trail are empty.
     let (tx, ty) = match trail {
         Some(t) => {
@@ -373,11 +388,18 @@ pub(crate) fn resolve_obstacles(
                 }
                 continue;
             }
+            let spin = if turning {
+                // SAFETY: disc `i` is this chunk's alone, and in bounds where discs turn.
+                unsafe { omega.get(i) }
+            } else {
+                0.0
+            };
             let mut disc = Disc {
                 position: [x[k], y[k]],
                 velocity: [vx[k], vy[k]],
                 radius: radius[i],
                 mass: law.mass(radius[i], mass[i]),
+                omega: spin,
             };
             let start = disc;
             if followed {
@@ -404,9 +426,12 @@ pub(crate) fn resolve_obstacles(
                 let u = velocities[o as usize];
                 let before = disc.velocity;
                 let shape = &obstacles.shapes[o as usize];
-                let e = obstacles.restitution[o as usize];
-                let j = collide(shape, u, e, law, &mut disc);
+                let surface = obstacles.surface[o as usize];
+                let (j, rubbed) = collide(shape, u, surface, law, &mut disc);
                 if j != [0.0, 0.0] {
+                    if rubbed != 0.0 {
+                        out.friction.add(rubbed);
+                    }
                     out.list.push((o, j));
                     // The work of the obstacle on the disc: the disc's impulse along `u`.
                     let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
@@ -417,6 +442,10 @@ pub(crate) fn resolve_obstacles(
                 let [mut px, mut py] = disc.position;
                 geometry.hold(&mut px, &mut py, disc.radius);
                 (x[k], y[k], vx[k], vy[k]) = (px, py, disc.velocity[0], disc.velocity[1]);
+                if turning {
+                    // SAFETY: as above.
+                    unsafe { omega.set(i, disc.omega) };
+                }
             }
             if followed {
                 (x0[k], y0[k]) = (x[k], y[k]);
@@ -428,6 +457,7 @@ pub(crate) fn resolve_obstacles(
     for part in partial {
         total.list.extend(part.list);
         total.work.merge(&part.work);
+        total.friction.merge(&part.friction);
     }
     total
 }

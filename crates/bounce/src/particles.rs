@@ -34,6 +34,15 @@ pub struct Particle {
     /// Mass used by [`crate::MassModel::PerParticle`]; `None` means π r² (areal density 1).
     /// Ignored by the other mass models.
     pub mass: Option<f64>,
+    /// Angular velocity, counter-clockwise, in radians per time unit. Default 0. A disc
+    /// given one spins (its orientation turns) even among smooth discs; only rough ones
+    /// ([`crate::Config::is_rough`]) change it.
+    #[serde(default)]
+    pub angular_velocity: f64,
+    /// Orientation, in radians counter-clockwise, kept in `[0, 2π)` as the disc turns.
+    /// Default 0.
+    #[serde(default)]
+    pub orientation: f64,
 }
 
 impl Particle {
@@ -44,7 +53,15 @@ impl Particle {
             velocity,
             radius,
             mass: None,
+            angular_velocity: 0.0,
+            orientation: 0.0,
         }
+    }
+
+    /// Whether it spins or has turned: a world of smooth discs keeps no rotation state until
+    /// it gets such a disc.
+    pub fn turns(&self) -> bool {
+        self.angular_velocity != 0.0 || self.orientation != 0.0
     }
 }
 
@@ -57,6 +74,9 @@ pub enum ParticleError {
     /// A velocity component is NaN or infinite.
     #[error("velocity {0:?} is not finite")]
     NonFiniteVelocity([f64; 2]),
+    /// The angular velocity or the orientation is NaN or infinite.
+    #[error("angular velocity {0} or orientation {1} is not finite")]
+    NonFiniteRotation(f64, f64),
     /// The radius is not a finite number `> 0`.
     #[error("radius {0} must be finite and > 0")]
     InvalidRadius(f64),
@@ -131,6 +151,12 @@ impl Particle {
         if !self.velocity.iter().all(|v| v.is_finite()) {
             return Err(ParticleError::NonFiniteVelocity(self.velocity));
         }
+        if !(self.angular_velocity.is_finite() && self.orientation.is_finite()) {
+            return Err(ParticleError::NonFiniteRotation(
+                self.angular_velocity,
+                self.orientation,
+            ));
+        }
         let r = self.radius;
         if !(r.is_finite() && r > 0.0) {
             return Err(ParticleError::InvalidRadius(r));
@@ -156,6 +182,13 @@ pub struct Particles {
     pub(crate) mass: Vec<f64>,
     /// Periodic image counts: how many box widths each disc has been wrapped by.
     pub(crate) image: Vec<[i32; 2]>,
+    /// Angular velocities: empty while no disc turns (smooth discs, the seed's), one per
+    /// disc from the first that does or the first rough configuration on.
+    pub(crate) omega: Vec<f64>,
+    /// Orientations in `[0, 2π)`, like `omega`.
+    pub(crate) theta: Vec<f64>,
+    /// Whether `omega` and `theta` are kept (then one per disc).
+    pub(crate) turning: bool,
 }
 
 impl Particles {
@@ -210,6 +243,33 @@ impl Particles {
         &self.image
     }
 
+    /// Angular velocities (counter-clockwise), or empty when no disc turns (see
+    /// [`Particles::turns`]).
+    pub fn angular_velocity(&self) -> &[f64] {
+        &self.omega
+    }
+
+    /// Orientations in `[0, 2π)`, or empty when no disc turns.
+    pub fn orientation(&self) -> &[f64] {
+        &self.theta
+    }
+
+    /// Whether the discs carry rotation state: some disc was given an angular velocity or
+    /// an orientation, or the configuration is rough. Smooth discs that never turned have
+    /// none, and their step never reads it.
+    pub fn turns(&self) -> bool {
+        self.turning
+    }
+
+    /// Starts keeping rotation state (zeros) for every disc, if not yet.
+    pub(crate) fn start_turning(&mut self) {
+        if !self.turning {
+            self.turning = true;
+            self.omega = vec![0.0; self.len()];
+            self.theta = vec![0.0; self.len()];
+        }
+    }
+
     /// The particle at storage index `i`.
     pub fn get(&self, i: usize) -> Option<Particle> {
         (i < self.len()).then(|| Particle {
@@ -217,10 +277,19 @@ impl Particles {
             velocity: [self.vx[i], self.vy[i]],
             radius: self.radius[i],
             mass: Some(self.mass[i]),
+            angular_velocity: self.omega.get(i).copied().unwrap_or(0.0),
+            orientation: self.theta.get(i).copied().unwrap_or(0.0),
         })
     }
 
     pub(crate) fn push(&mut self, id: ParticleId, p: &Particle) {
+        if p.turns() {
+            self.start_turning();
+        }
+        if self.turning {
+            self.omega.push(p.angular_velocity);
+            self.theta.push(p.orientation);
+        }
         self.id.push(id);
         self.x.push(p.position[0]);
         self.y.push(p.position[1]);
@@ -246,6 +315,10 @@ impl Particles {
                 self.radius[to] = self.radius[i];
                 self.mass[to] = self.mass[i];
                 self.image[to] = self.image[i];
+                if self.turning {
+                    self.omega[to] = self.omega[i];
+                    self.theta[to] = self.theta[i];
+                }
                 to += 1;
             }
         }
@@ -262,6 +335,8 @@ impl Particles {
         self.radius.truncate(len);
         self.mass.truncate(len);
         self.image.truncate(len);
+        self.omega.truncate(len);
+        self.theta.truncate(len);
     }
 
     /// Reorders every array so that new index `k` holds old index `order[k]`. Each array is
@@ -291,6 +366,9 @@ impl Particles {
             (&mut self.vy, false),
             (&mut self.radius, equal_radii),
             (&mut self.mass, false),
+            // (Empty while no disc turns: nothing to move.)
+            (&mut self.omega, false),
+            (&mut self.theta, false),
         ] {
             if known_same || all_same_bits(v, exec) {
                 continue;

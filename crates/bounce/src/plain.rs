@@ -26,7 +26,10 @@ use crate::config::Config;
 use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
-use crate::law::{Body, Disc, Law, collide, is_impact, reflect, resting_speed, touch_walls};
+use crate::integrate::turned;
+use crate::law::{
+    Body, Disc, Law, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
+};
 use crate::obstacles::{self, Impacts, Met, uncross};
 use crate::particles::Particles;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
@@ -100,8 +103,10 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 stats.pairs += contacts.len();
                 stats.max_overlap = stats.max_overlap.max(max_overlap);
             }
-            let (virial, impacts) = resolve(p, &contacts, &rules, &rules.law.for_pass(pass));
+            let (virial, impacts, friction) =
+                resolve(p, &contacts, &rules, &rules.law.for_pass(pass));
             sums.virial.merge(&virial);
+            sums.friction.merge(&friction);
             if pass == 0 {
                 stats.collisions += impacts;
             }
@@ -137,8 +142,8 @@ struct Rules {
     gravity: [f64; 2],
     /// With several passes under gravity, each block's contacts go lowest first.
     stack_order: Option<[f64; 2]>,
-    /// Each obstacle's restitution.
-    restitution: Vec<f64>,
+    /// Each obstacle's restitution and friction.
+    surface: Vec<[f64; 2]>,
     /// The order a disc meets the obstacles in: the fixed ones, then the moving ones.
     obstacle_order: Vec<usize>,
     /// The approach speed below which a contact rests.
@@ -162,8 +167,11 @@ impl Rules {
             gravity: config.gravity,
             stack_order: (config.solver_iterations > 1 && config.gravity != [0.0, 0.0])
                 .then_some(config.gravity),
-            restitution: (config.obstacles.iter())
-                .map(|o| o.restitution.unwrap_or(config.coefficient_of_restitution))
+            surface: (config.obstacles.iter())
+                .map(|o| {
+                    let e = o.restitution.unwrap_or(config.coefficient_of_restitution);
+                    [e, config.obstacle_friction(o)]
+                })
                 .collect(),
             obstacle_order,
             resting_speed: resting_speed(config.gravity, h),
@@ -176,10 +184,12 @@ impl Rules {
 }
 
 /// Semi-implicit Euler, `v += g h; x += v h`, then the boundary for each disc: walls reflect
-/// it (returns the impulses they took), a periodic box wraps it.
+/// it (rough ones rub it; returns the impulses they took), a periodic box wraps it; then a
+/// disc that turns turns.
 fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
     let [gx, gy] = rules.gravity;
     let mut impulse = WallSums::default();
+    let rubbing = rules.law.rough.filter(|rough| rough.rubs_walls());
     for i in 0..p.len() {
         p.vx[i] += gx * h;
         p.vy[i] += gy * h;
@@ -195,12 +205,25 @@ fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
                 let (r, m, e) = (p.radius[i], rules.mass(p, i), rules.law.restitution_of(e));
                 let (left, right) = reflect(&mut p.x[i], &mut p.vx[i], r, min[0], max[0], e, m);
                 let (bottom, top) = reflect(&mut p.y[i], &mut p.vy[i], r, min[1], max[1], e, m);
-                impulse.add([left, right, bottom, top]);
+                let hits = [left, right, bottom, top];
+                impulse.add(hits);
+                if let Some(rough) = &rubbing
+                    && hits != [0.0; 4]
+                {
+                    let mut v = [p.vx[i], p.vy[i]];
+                    impulse
+                        .friction
+                        .add(rub_walls(hits, &mut v, &mut p.omega[i], r, m, rough));
+                    [p.vx[i], p.vy[i]] = v;
+                }
             }
             Geometry::Periodic { min, size, .. } => {
                 p.image[i][0] = p.image[i][0].wrapping_add(wrap(&mut p.x[i], min[0], size[0]));
                 p.image[i][1] = p.image[i][1].wrapping_add(wrap(&mut p.y[i], min[1], size[1]));
             }
+        }
+        if p.turning {
+            p.theta[i] = turned(p.theta[i], p.omega[i], h);
         }
     }
     impulse
@@ -323,11 +346,18 @@ fn for_each_near_pair(
 }
 
 /// The seed's steps 1–7 for each contact in order, on the current state (a disc pushed by
-/// one pair is seen at its new place by the next); walls hold after each push. Returns the
-/// collision virial `Σ r_ab · Δp_ab`, summed exactly, and the impacts.
-fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) -> (ExactSum, usize) {
+/// one pair is seen at its new place by the next), and rough discs' friction; walls hold
+/// after each push. Returns the collision virial `Σ r_ab · Δp_ab`, summed exactly, the
+/// impacts, and the energy friction removed, summed exactly.
+fn resolve(
+    p: &mut Particles,
+    contacts: &[Contact],
+    rules: &Rules,
+    law: &Law,
+) -> (ExactSum, usize, ExactSum) {
     let min_image = rules.geometry.min_image();
     let mut virial = ExactSum::new();
+    let mut friction = ExactSum::new();
     let mut impacts = 0;
     for &Contact { a, b, .. } in contacts {
         let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
@@ -335,6 +365,7 @@ fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) ->
             velocity: [p.vx[i], p.vy[i]],
             radius: p.radius[i],
             mass: rules.mass(p, i),
+            angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
         };
         let (one, two) = (body(a), body(b));
         let out = law.resolve(diff, &one, &two);
@@ -356,8 +387,12 @@ fn resolve(p: &mut Particles, contacts: &[Contact], rules: &Rules, law: &Law) ->
         }
         [p.vx[a], p.vy[a]] = out.v1;
         [p.vx[b], p.vy[b]] = out.v2;
+        if law.rough.is_some_and(|rough| rough.rubs_pairs()) {
+            (p.omega[a], p.omega[b]) = (out.w1, out.w2);
+            friction.add(out.friction_work);
+        }
     }
-    (virial, impacts)
+    (virial, impacts, friction)
 }
 
 /// The walls as contacts: each disc touching a wall and moving into it bounces.
@@ -372,11 +407,22 @@ fn walls_as_contacts(p: &mut Particles, rules: &Rules) -> WallSums {
         return impulse;
     };
     let e = rules.law.restitution_of(e);
+    let rubbing = rules.law.rough.filter(|rough| rough.rubs_walls());
     for i in 0..p.len() {
         let (r, m) = (p.radius[i], rules.mass(p, i));
         let [left, right] = touch_walls(p.x[i], &mut p.vx[i], r, m, min[0], max[0], e);
         let [bottom, top] = touch_walls(p.y[i], &mut p.vy[i], r, m, min[1], max[1], e);
-        impulse.add([left, right, bottom, top]);
+        let hits = [left, right, bottom, top];
+        impulse.add(hits);
+        if let Some(rough) = &rubbing
+            && hits != [0.0; 4]
+        {
+            let mut v = [p.vx[i], p.vy[i]];
+            impulse
+                .friction
+                .add(rub_walls(hits, &mut v, &mut p.omega[i], r, m, rough));
+            [p.vx[i], p.vy[i]] = v;
+        }
     }
     impulse
 }
@@ -401,6 +447,7 @@ fn meet_obstacles(
             velocity: [p.vx[i], p.vy[i]],
             radius: p.radius[i],
             mass: rules.mass(p, i),
+            omega: p.omega.get(i).copied().unwrap_or(0.0),
         };
         let mut disc = start;
         if let Some(trail) = trail.as_deref() {
@@ -412,8 +459,11 @@ fn meet_obstacles(
         for &k in &rules.obstacle_order {
             let u = states[k].velocity;
             let before = disc.velocity;
-            let j = collide(&shapes[k], u, rules.restitution[k], law, &mut disc);
+            let (j, rubbed) = collide(&shapes[k], u, rules.surface[k], law, &mut disc);
             if j != [0.0, 0.0] {
+                if rubbed != 0.0 {
+                    impacts.friction.add(rubbed);
+                }
                 impacts.list.push((k as u32, j));
                 let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
                 impacts.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));
@@ -423,6 +473,9 @@ fn meet_obstacles(
             let [mut x, mut y] = disc.position;
             rules.geometry.hold(&mut x, &mut y, disc.radius);
             (p.x[i], p.y[i], p.vx[i], p.vy[i]) = (x, y, disc.velocity[0], disc.velocity[1]);
+            if p.turning {
+                p.omega[i] = disc.omega;
+            }
         }
         if let Some(trail) = trail.as_deref_mut() {
             trail[i] = [p.x[i], p.y[i]];

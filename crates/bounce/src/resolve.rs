@@ -21,7 +21,8 @@ use crate::context::StepContext;
 use crate::geometry::Geometry;
 use crate::geometry::MinImage;
 use crate::lanes::{F64x2, F64x4, Lanes};
-use crate::law::{Law, hold, is_impact, resolve_lanes, touch_walls};
+use crate::law::rough::rub_pair;
+use crate::law::{Law, Rough, hold, is_impact, resolve_lanes, rub_walls, touch_walls};
 use crate::parallel::{CHUNK, SharedSlice, prefetch};
 use crate::part::Tally;
 use crate::particles::Particles;
@@ -34,6 +35,8 @@ pub(crate) struct Resolved {
     pub virial: ExactSum,
     /// The pairs that met as impacts ([`is_impact`]), not resting contacts.
     pub impacts: usize,
+    /// The energy friction and rolling resistance removed (rough discs), summed exactly.
+    pub friction: ExactSum,
 }
 
 impl Resolved {
@@ -41,12 +44,14 @@ impl Resolved {
         Resolved {
             virial: ExactSum::new(),
             impacts: 0,
+            friction: ExactSum::new(),
         }
     }
 
     fn merge(&mut self, other: &Resolved) {
         self.virial.merge(&other.virial);
         self.impacts += other.impacts;
+        self.friction.merge(&other.friction);
     }
 }
 
@@ -125,6 +130,9 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     let y = SharedSlice::new(&mut p.y);
     let vx = SharedSlice::new(&mut p.vx);
     let vy = SharedSlice::new(&mut p.vy);
+    // Rough pairs turn their discs too.
+    let omega = SharedSlice::new(&mut p.omega);
+    let spin = law.rough.filter(|rough| rough.rubs_pairs());
     let radius_of = |i: usize| {
         if UNIFORM { uniform_radius } else { radius[i] }
     };
@@ -171,6 +179,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             walls,
             tally,
             resting_speed,
+            omega,
+            spin,
         } = discs;
         // The lanes' indices read once: the disc stores below go through raw pointers, which
         // the compiler cannot tell apart from the contact list, so it would read them anew
@@ -205,11 +215,35 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             );
             let (ma, mb) = (L::gather(|k| mass_of(a(k))), L::gather(|k| mass_of(b(k))));
             let out = resolve_lanes(diff, [va, vb], [ra, rb], [ma, mb], law);
+            // Rough discs: the tangential impulse and the rolling couple.
+            let (v1, v2, mut rubbed) = match spin {
+                None => (out.v1, out.v2, [0.0; 4]),
+                Some(rough) => {
+                    let (wa, wb) = (
+                        L::gather(|k| omega.get(a(k))),
+                        L::gather(|k| omega.get(b(k))),
+                    );
+                    let scale = law.collision_radius_scale;
+                    let velocity = [out.v1, out.v2];
+                    let rubbed = rub_pair(
+                        out.normal,
+                        [va, vb],
+                        velocity,
+                        [wa, wb],
+                        [ra, rb],
+                        [ma, mb],
+                        scale,
+                        rough,
+                    );
+                    rubbed.omega1.each(|k, v| omega.set(a(k), v));
+                    rubbed.omega2.each(|k, v| omega.set(b(k), v));
+                    (rubbed.v1, rubbed.v2, lane_values(rubbed.work))
+                }
+            };
             // The pair's impulse: half the difference of the momentum changes.
             let half = L::splat(0.5);
             // (Written out, not `[0, 1].map`: the compiler left that closure out of line.)
-            let impulse_along =
-                |k: usize| half * (ma * (out.v1[k] - va[k]) - mb * (out.v2[k] - vb[k]));
+            let impulse_along = |k: usize| half * (ma * (v1[k] - va[k]) - mb * (v2[k] - vb[k]));
             let impulse = [impulse_along(0), impulse_along(1)];
             let term = diff[0] * impulse[0] + diff[1] * impulse[1];
             // The lanes' terms (zero where the tally does not count the pair) added together.
@@ -219,11 +253,15 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             for k in 0..L::LANES {
                 if tally.is_some_and(|t| !t.counts(xa_at[k], ya_at[k])) {
                     terms[k] = 0.0;
+                    rubbed[k] = 0.0;
                 } else {
                     sums.impacts += is_impact(approach[k], *resting_speed) as usize;
                 }
             }
             sums.virial.add_all(&terms[..L::LANES]);
+            if spin.is_some() {
+                sums.friction.add_all(&rubbed[..L::LANES]);
+            }
             let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
             let (mut xb, mut yb) = (xb - out.push[0], yb - out.push[1]);
             if let Some((min, max)) = *walls {
@@ -234,10 +272,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             ya.each(|k, v| y.set(a(k), v));
             xb.each(|k, v| x.set(b(k), v));
             yb.each(|k, v| y.set(b(k), v));
-            out.v1[0].each(|k, v| vx.set(a(k), v));
-            out.v1[1].each(|k, v| vy.set(a(k), v));
-            out.v2[0].each(|k, v| vx.set(b(k), v));
-            out.v2[1].each(|k, v| vy.set(b(k), v));
+            v1[0].each(|k, v| vx.set(a(k), v));
+            v1[1].each(|k, v| vy.set(a(k), v));
+            v2[0].each(|k, v| vx.set(b(k), v));
+            v2[1].each(|k, v| vy.set(b(k), v));
         }
     }
     let discs = Discs {
@@ -252,6 +290,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         walls,
         tally,
         resting_speed: ctx.resting_speed,
+        omega: &omega,
+        spin,
     };
     let mut sums = Resolved::new();
     let list = contacts.list();
@@ -360,6 +400,10 @@ struct Discs<'a, R, M> {
     tally: Option<Tally>,
     /// The approach speed above which a contact is an impact.
     resting_speed: f64,
+    /// The angular velocities (empty for smooth discs).
+    omega: &'a SharedSlice<'a, f64>,
+    /// Rough pairs' coefficients, when pairs rub.
+    spin: Option<Rough>,
 }
 
 /// The lanes of `v` as an array of up to four.
@@ -386,17 +430,23 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
     let law = &ctx.law;
     let e = law.restitution_of(e);
     let tally = ctx.tally;
+    let rubbing = law.rough.filter(|rough| rough.rubs_walls());
     let (x, y, radius, mass) = (&p.x, &p.y, &p.radius, &p.mass);
-    let mut chunks: Vec<(usize, &mut [f64], &mut [f64])> =
+    // (The angular velocities' chunks are empty for smooth discs.)
+    let mut omega_chunks: Vec<&mut [f64]> = p.omega.chunks_mut(CHUNK).collect();
+    omega_chunks.resize_with(p.vx.len().div_ceil(CHUNK), || &mut []);
+    type Chunk<'a> = (usize, &'a mut [f64], &'a mut [f64], &'a mut [f64]);
+    let mut chunks: Vec<Chunk> =
         p.vx.chunks_mut(CHUNK)
             .zip(p.vy.chunks_mut(CHUNK))
+            .zip(omega_chunks)
             .enumerate()
-            .map(|(c, (vx, vy))| (c * CHUNK, vx, vy))
+            .map(|(c, ((vx, vy), omega))| (c * CHUNK, vx, vy, omega))
             .collect();
     // One axis: the impulse on the low and the high wall.
     let partial = ctx
         .exec
-        .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy)| {
+        .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy, omega)| {
             let mut impulse = WallSums::default();
             for (k, (vx, vy)) in vx.iter_mut().zip(vy.iter_mut()).enumerate() {
                 let i = *base + k;
@@ -404,8 +454,20 @@ pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
                 let m = law.mass(r, mass[i]);
                 let [left, right] = touch_walls(x[i], vx, r, m, min[0], max[0], e);
                 let [bottom, top] = touch_walls(y[i], vy, r, m, min[1], max[1], e);
-                if tally.is_none_or(|t| t.counts(x[i], y[i])) {
-                    impulse.add([left, right, bottom, top]);
+                let hits = [left, right, bottom, top];
+                let counted = tally.is_none_or(|t| t.counts(x[i], y[i]));
+                if counted {
+                    impulse.add(hits);
+                }
+                if let Some(rough) = &rubbing
+                    && hits != [0.0; 4]
+                {
+                    let mut velocity = [*vx, *vy];
+                    let work = rub_walls(hits, &mut velocity, &mut omega[k], r, m, rough);
+                    [*vx, *vy] = velocity;
+                    if counted {
+                        impulse.friction.add(work);
+                    }
                 }
             }
             impulse

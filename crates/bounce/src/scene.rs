@@ -451,6 +451,16 @@ pub fn zero_momentum(discs: &mut [Particle], config: &Config, drift: [f64; 2]) {
     }
 }
 
+/// Gives every disc an angular velocity uniform in `[-spin, spin]`, drawn from `seed` apart
+/// from the draws that placed the discs (a gas with and without spin has the same places and
+/// velocities).
+pub fn spin(discs: &mut [Particle], spin: f64, seed: u64) {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed ^ 0x5350_494e_5350_494e);
+    for p in discs {
+        p.angular_velocity = spin * (2.0 * rng.random::<f64>() - 1.0);
+    }
+}
+
 /// A square walled box sized so `count` discs with radii uniform in `radius` fill
 /// `packing` of its area, and a gas in it: the benchmark scenes' setup.
 pub fn gas_in_walls(

@@ -44,6 +44,9 @@ pub struct StepStats {
     /// collisions (`J` the disc's impulse, `u` the obstacle's velocity): what a piston puts
     /// into the gas.
     pub obstacle_work: f64,
+    /// The energy friction and rolling resistance removed during the step (rough discs,
+    /// [`crate::law::rough`]); 0 for smooth ones. [`crate::World::friction_work`] adds it up.
+    pub friction_work: f64,
     /// Discs the emitters added at the start of the step.
     pub emitted: usize,
     /// Discs the sinks removed at the end of the step.
@@ -66,6 +69,7 @@ impl StepStats {
             ("wall_impulse", w.top),
             ("pressure", self.pressure.unwrap_or(0.0)),
             ("obstacle_work", self.obstacle_work),
+            ("friction_work", self.friction_work),
         ]
         .into_iter()
         .find(|(_, v)| !v.is_finite())

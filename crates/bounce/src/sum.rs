@@ -202,11 +202,14 @@ fn scale(mut v: f64, mut e: i32) -> f64 {
     v * f64::from_bits(((e + 1023) as u64) << 52)
 }
 
-/// The momentum each wall received, summed exactly (see [`ExactSum`]).
+/// The momentum each wall received, and the energy the walls' friction removed, summed
+/// exactly (see [`ExactSum`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WallSums {
     /// Left (`min[0]`), right, bottom (`min[1]`), top.
     pub walls: [ExactSum; 4],
+    /// The energy friction and rolling resistance at the walls removed (rough discs).
+    pub friction: ExactSum,
 }
 
 impl WallSums {
@@ -223,6 +226,7 @@ impl WallSums {
         for (mine, theirs) in self.walls.iter_mut().zip(&other.walls) {
             mine.merge(theirs);
         }
+        self.friction.merge(&other.friction);
     }
 
     /// The totals as a [`crate::WallImpulse`].
@@ -245,8 +249,21 @@ impl WallSums {
 pub struct StepSums {
     /// `Σ r_ij · Δp_ij` (the step's [`crate::StepStats::virial`] is half of it over `dt`).
     pub virial: ExactSum,
-    /// The momentum given to each wall.
+    /// The momentum given to each wall, and the energy the walls' friction removed.
     pub walls: WallSums,
+    /// The energy friction and rolling resistance removed at pairs and obstacles (rough
+    /// discs; the walls' is in `walls`).
+    pub friction: ExactSum,
+}
+
+impl StepSums {
+    /// The energy friction and rolling resistance removed in the step, everywhere
+    /// ([`crate::StepStats::friction_work`]).
+    pub fn friction_work(&self) -> f64 {
+        let mut all = self.friction.clone();
+        all.merge(&self.walls.friction);
+        all.value()
+    }
 }
 
 #[cfg(test)]

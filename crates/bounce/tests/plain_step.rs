@@ -1,7 +1,9 @@
 //! The fast step against the plain one (`bounce::plain`): random worlds under every boundary,
-//! mass, restitution, velocity-update and resting-contact option, polydisperse radii, obstacles fixed, moving
-//! and driven, emitters and sinks, several solver passes and adaptive substeps, stepped with
-//! both for 50 steps on 1 and 2 threads, must keep the same bits.
+//! mass, restitution, velocity-update and resting-contact option, smooth and rough discs
+//! (friction at pairs, walls and obstacles, tangential restitution, rolling resistance,
+//! spin), polydisperse radii, obstacles fixed, moving and driven, emitters and sinks, several
+//! solver passes and adaptive substeps, stepped with both for 50 steps on 1 and 2 threads,
+//! must keep the same bits.
 
 use bounce::scene::{self, Gas, Speeds};
 use bounce::{
@@ -31,6 +33,12 @@ struct Recipe {
     obstacles: u8,
     sources: bool,
     seed: u64,
+    /// 0–1 smooth; 2 friction at pairs and walls; 3 friction everywhere, rolling
+    /// resistance and spin.
+    rough: u8,
+    friction: f64,
+    tangential_restitution: f64,
+    rolling_resistance: f64,
 }
 
 fn recipe() -> impl Strategy<Value = Recipe> {
@@ -57,6 +65,7 @@ fn recipe() -> impl Strategy<Value = Recipe> {
             any::<bool>(),
             any::<u64>(),
         ),
+        (0u8..4, 0.0f64..1.0, -1.0f64..=1.0, 0.0f64..0.3),
     )
         .prop_map(
             |(
@@ -64,7 +73,12 @@ fn recipe() -> impl Strategy<Value = Recipe> {
                 (scale, r_min, ratio, count, speed),
                 (gravity, wall_restitution, substeps, solver_iterations),
                 (max_travel, obstacles, sources, seed),
+                (rough, friction, tangential_restitution, rolling_resistance),
             )| Recipe {
+                rough,
+                friction,
+                tangential_restitution,
+                rolling_resistance,
                 boundary,
                 mass_model,
                 restitution_model,
@@ -108,7 +122,12 @@ fn config(r: &Recipe) -> Config {
     let mut obstacles = Vec::new();
     // One bit per kind: a fixed segment, a peg, a segment at a set speed, a driven piston.
     if r.obstacles & 1 != 0 {
-        obstacles.push(Obstacle::segment([5.0, 12.0], [30.0, 8.0]).with_restitution(0.8));
+        let segment = Obstacle::segment([5.0, 12.0], [30.0, 8.0]).with_restitution(0.8);
+        obstacles.push(if r.rough == 3 {
+            segment.with_friction(0.9)
+        } else {
+            segment
+        });
     }
     if r.obstacles & 2 != 0 {
         obstacles.push(Obstacle::peg([20.0, 25.0], 2.0));
@@ -171,6 +190,15 @@ fn config(r: &Recipe) -> Config {
         } else {
             RestingContacts::Bounce
         },
+        friction: if r.rough >= 2 { r.friction } else { 0.0 },
+        wall_friction: (r.rough == 3).then_some(0.3),
+        tangential_restitution: r.tangential_restitution,
+        rolling_resistance: if r.rough == 3 {
+            r.rolling_resistance
+        } else {
+            0.0
+        },
+        inertia_factor: if r.rough == 3 { 0.4 } else { 0.5 },
         obstacles,
         emitters,
         sinks,
@@ -194,6 +222,9 @@ fn world(r: &Recipe, threads: usize) -> World {
     for (k, d) in discs.iter_mut().enumerate() {
         // Per-particle masses unlike the radii.
         d.mass = Some(0.5 + (k % 7) as f64 * 0.3);
+    }
+    if r.rough == 3 {
+        scene::spin(&mut discs, 4.0, r.seed);
     }
     let mut world = World::new(config).expect("valid config");
     world.add_particles(discs).expect("valid discs");
@@ -241,6 +272,15 @@ fn same_bits(r: &Recipe, threads: usize, steps: usize) -> Result<(), TestCaseErr
             fast.obstacle_work().to_bits(),
             reference.obstacle_work().to_bits()
         );
+        prop_assert_eq!(
+            (a.friction_work.to_bits(), fast.friction_work().to_bits()),
+            (
+                b.friction_work.to_bits(),
+                reference.friction_work().to_bits()
+            ),
+            "friction work, {}",
+            at
+        );
         // Summed in storage order, which the plain step never changes.
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(1.0);
         prop_assert!(close(a.kinetic_energy, b.kinetic_energy), "energy, {}", at);
@@ -274,11 +314,18 @@ proptest! {
 }
 
 /// The benchmark scenes at a test's size: a gas and a pile, thousands of contacts a
-/// substep, the fast step's dense paths (presort, several bands) included.
+/// substep, the fast step's dense paths (presort, several bands) included; and the pile of
+/// rough discs.
 #[test]
 fn the_benchmark_scenes_keep_the_plain_steps_bits() {
-    for scene in [scene::Bench::Gas, scene::Bench::Pile, scene::Bench::Poly] {
-        let (config, discs) = scene.build(4000).unwrap();
+    for (scene, friction) in [
+        (scene::Bench::Gas, 0.0),
+        (scene::Bench::Pile, 0.0),
+        (scene::Bench::Poly, 0.0),
+        (scene::Bench::Pile, 0.5),
+    ] {
+        let (mut config, discs) = scene.build(4000).unwrap();
+        config.friction = friction;
         let mut fast = World::new(config.clone()).unwrap();
         fast.add_particles(discs.clone()).unwrap();
         fast.set_threads(2).unwrap();
@@ -291,7 +338,7 @@ fn the_benchmark_scenes_keep_the_plain_steps_bits() {
             assert_eq!(
                 fast.state_hash(),
                 reference.state_hash(),
-                "{scene:?}, step {step}"
+                "{scene:?}, friction {friction}, step {step}"
             );
         }
     }

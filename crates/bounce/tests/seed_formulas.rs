@@ -14,6 +14,7 @@ fn seed_params(e: f64) -> Law {
         velocity_update: VelocityUpdate::AllDetected,
         mass_model: MassModel::Radius,
         rest_below: None,
+        rough: None,
     }
 }
 
@@ -28,11 +29,7 @@ fn is_colliding(diff: [f64; 2], r1: f64, r2: f64, scale: f64) -> bool {
 
 /// A body under the seed's mass model (mass = radius).
 fn body(velocity: [f64; 2], radius: f64) -> Body {
-    Body {
-        velocity,
-        radius,
-        mass: radius,
-    }
+    Body::new(velocity, radius, radius)
 }
 
 fn close2(a: [f64; 2], b: [f64; 2], what: &str) {

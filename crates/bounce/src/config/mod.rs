@@ -79,6 +79,28 @@ pub struct Config {
     /// [`RestingContacts::Bounce`], the seed's: every contact is resolved with its
     /// restitution, however slow.
     pub resting_contacts: RestingContacts,
+    /// Coulomb's friction coefficient `μ` of disc–disc contacts, finite and `>= 0`. Default
+    /// `0`: the seed's smooth discs, whose tangential velocities a collision keeps. With any
+    /// friction (here, at the walls or at an obstacle) or rolling resistance the discs are
+    /// **rough**: each has an angular velocity and an orientation, and a contact's tangential
+    /// impulse, after the seed's normal update, removes (or reverses) the slip of the
+    /// touching surfaces up to `μ` times the normal impulse (see [`crate::law::rough`]).
+    pub friction: f64,
+    /// The walls' friction coefficient, finite and `>= 0`. `None` (the default) uses
+    /// [`Config::friction`].
+    pub wall_friction: Option<f64>,
+    /// Walton's tangential restitution `β` in `[-1, 1]`: a contact that sticks leaves with
+    /// its slip velocity `-β` times what it was. Default `0` (the slip is removed: rolling
+    /// contact); `1` reverses it (perfectly rough, elastic), `-1` leaves it (smooth).
+    pub tangential_restitution: f64,
+    /// Rolling resistance `μ_r`, finite and `>= 0`: at each contact a couple brakes the
+    /// relative rotation of the two sides by at most `μ_r |J_n| r_eff` of angular impulse
+    /// (`J_n` the normal impulse, `r_eff` the reduced lever arm; see
+    /// [`crate::law::rough`]). Default `0`.
+    pub rolling_resistance: f64,
+    /// `k` in each disc's moment of inertia `I = k m r²` (`m` its mass under
+    /// [`Config::mass_model`]), in `(0, 1]`. Default `0.5`, a solid disc (a ring is 1).
+    pub inertia_factor: f64,
     /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
     /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
     pub obstacles: Vec<Obstacle>,
@@ -105,6 +127,11 @@ impl Default for Config {
             restitution_model: RestitutionModel::ScaleEachNormalVelocity,
             velocity_update: VelocityUpdate::AllDetected,
             resting_contacts: RestingContacts::Bounce,
+            friction: 0.0,
+            wall_friction: None,
+            tangential_restitution: 0.0,
+            rolling_resistance: 0.0,
+            inertia_factor: 0.5,
             obstacles: Vec::new(),
             emitters: Vec::new(),
             sinks: Vec::new(),
@@ -340,6 +367,42 @@ impl Config {
                 "must be in [0, 1]",
             );
         }
+        let coefficient = |v: f64| v.is_finite() && v >= 0.0;
+        if !coefficient(self.friction) {
+            err(
+                "friction",
+                self.friction.to_string(),
+                "must be finite and >= 0",
+            );
+        }
+        if let Some(w) = self.wall_friction
+            && !coefficient(w)
+        {
+            err("wall_friction", w.to_string(), "must be finite and >= 0");
+        }
+        let beta = self.tangential_restitution;
+        if !(-1.0..=1.0).contains(&beta) {
+            err(
+                "tangential_restitution",
+                beta.to_string(),
+                "must be in [-1, 1]",
+            );
+        }
+        if !coefficient(self.rolling_resistance) {
+            err(
+                "rolling_resistance",
+                self.rolling_resistance.to_string(),
+                "must be finite and >= 0",
+            );
+        }
+        let k = self.inertia_factor;
+        if !(k > 0.0 && k <= 1.0) {
+            err(
+                "inertia_factor",
+                k.to_string(),
+                "must be in (0, 1] (a solid disc is 0.5, a ring 1)",
+            );
+        }
         for (k, obstacle) in self.obstacles.iter().enumerate() {
             if let Some((field, value, expected)) = obstacle.problem() {
                 err(
@@ -371,6 +434,31 @@ impl Config {
             }
         }
         out
+    }
+
+    /// The friction coefficient the walls use.
+    pub fn wall_friction(&self) -> f64 {
+        self.wall_friction.unwrap_or(self.friction)
+    }
+
+    /// The friction coefficient of obstacle `obstacle`.
+    pub fn obstacle_friction(&self, obstacle: &Obstacle) -> f64 {
+        obstacle.friction.unwrap_or(self.friction)
+    }
+
+    /// Whether the discs are rough: some contact (a pair, a wall of the box, an obstacle)
+    /// has friction, or there is rolling resistance. Rough discs carry an angular velocity
+    /// and an orientation; smooth ones (the seed's, the default) have neither, and their
+    /// step is the seed's to the bit.
+    pub fn is_rough(&self) -> bool {
+        let walls = matches!(self.boundary, Boundary::Walls { .. });
+        self.friction > 0.0
+            || (walls && self.wall_friction() > 0.0)
+            || self.rolling_resistance > 0.0
+            || self
+                .obstacles
+                .iter()
+                .any(|o| self.obstacle_friction(o) > 0.0)
     }
 
     /// The restitution the walls use.

@@ -1,4 +1,4 @@
-//! Obstacles as the configuration describes them: a shape, a restitution and a motion, and
+//! Obstacles as the configuration describes them: a shape, a restitution, a friction and a motion, and
 //! a moving obstacle's saved state. What a disc does at an obstacle is the law's
 //! (`law::obstacle`); the step's form of the obstacles is `obstacles`.
 
@@ -46,7 +46,7 @@ pub enum Motion {
     },
 }
 
-/// An obstacle: a shape, its restitution and how it moves.
+/// An obstacle: a shape, its restitution and friction, and how it moves.
 ///
 /// ```
 /// use bounce::{Boundary, Config, Obstacle, Particle, World};
@@ -73,6 +73,10 @@ pub struct Obstacle {
     pub restitution: Option<f64>,
     /// Fixed (the default) or moving.
     pub motion: Motion,
+    /// Coulomb friction coefficient of discs against it, `>= 0` (see
+    /// [`crate::Config::friction`]). `None` (the default) uses the world's friction.
+    #[serde(default)]
+    pub friction: Option<f64>,
 }
 
 impl Obstacle {
@@ -117,6 +121,14 @@ impl Obstacle {
     pub fn with_restitution(self, restitution: f64) -> Obstacle {
         Obstacle {
             restitution: Some(restitution),
+            ..self
+        }
+    }
+
+    /// This obstacle with its own friction coefficient.
+    pub fn with_friction(self, friction: f64) -> Obstacle {
+        Obstacle {
+            friction: Some(friction),
             ..self
         }
     }
@@ -167,6 +179,11 @@ impl Obstacle {
         {
             return Some(("restitution", e.to_string(), "must be in [0, 1]"));
         }
+        if let Some(mu) = self.friction
+            && !(mu.is_finite() && mu >= 0.0)
+        {
+            return Some(("friction", mu.to_string(), "must be finite and >= 0"));
+        }
         match self.motion {
             Motion::Fixed => None,
             Motion::Velocity(v) if !finite(&v) => {
@@ -209,6 +226,7 @@ impl From<Shape> for Obstacle {
             shape,
             restitution: None,
             motion: Motion::Fixed,
+            friction: None,
         }
     }
 }

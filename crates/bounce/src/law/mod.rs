@@ -14,12 +14,14 @@ use crate::config::{Config, MassModel, RestingContacts, RestitutionModel, Veloci
 
 mod obstacle;
 mod pair;
+pub mod rough;
 mod wall;
 
 pub(crate) use obstacle::{Disc, collide, nearest, reach_of, touches};
 pub(crate) use pair::resolve_lanes;
 pub use pair::{Body, Resolution, resolve_pair};
-pub(crate) use wall::{hold, reflect, touch_walls};
+pub use rough::Rough;
+pub(crate) use wall::{hold, reflect, rub_walls, touch_walls};
 
 /// The normal used when two centres coincide (distance 0): `+x`. The seed divides by the
 /// distance there; any fixed unit vector keeps the result finite and deterministic, and `+x`
@@ -58,6 +60,9 @@ pub struct Law {
     /// [`RestingContacts::Bounce`], without gravity, and in a law from [`Law::new`], which
     /// knows no substep; the [`resting_speed`] of the substep in one from [`Law::at_substep`].
     pub rest_below: Option<f64>,
+    /// Friction and rolling resistance ([`rough`]); `None` for the seed's smooth discs
+    /// ([`Config::is_rough`]).
+    pub rough: Option<Rough>,
 }
 
 impl Law {
@@ -72,6 +77,13 @@ impl Law {
             velocity_update: config.velocity_update,
             mass_model: config.mass_model,
             rest_below: None,
+            rough: config.is_rough().then(|| Rough {
+                friction: config.friction,
+                wall_friction: config.wall_friction(),
+                tangential_restitution: config.tangential_restitution,
+                rolling_resistance: config.rolling_resistance,
+                inertia_factor: config.inertia_factor,
+            }),
         }
     }
 
@@ -274,11 +286,7 @@ mod tests {
         assert!(is_impact(1e-12, 0.0) && !is_impact(0.0, 0.0));
         // The approach is v2n − v1n along the normal from 2 to 1: head on at 1 each, 2.
         let law = Law::new(&Config::default());
-        let body = |vx: f64| Body {
-            velocity: [vx, 0.0],
-            radius: 1.0,
-            mass: 1.0,
-        };
+        let body = |vx: f64| Body::new([vx, 0.0], 1.0, 1.0);
         let out = resolve_pair([-2.0, 0.0], &body(1.0), &body(-1.0), &law);
         assert_eq!(out.approach, 2.0);
     }

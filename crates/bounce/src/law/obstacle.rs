@@ -4,11 +4,13 @@
 //! collision_radius_scale` of its centre; it is pushed out of the overlap by the whole
 //! amount, and if it moves into the obstacle (in the obstacle's frame) its normal velocity
 //! is reversed and scaled by the obstacle's restitution (0 for a resting contact, see
-//! [`crate::RestingContacts`]). A disc already leaving is not
+//! [`crate::RestingContacts`]); a rough disc then gets the obstacle's friction
+//! ([`super::rough`], lever arm `r * collision_radius_scale`). A disc already leaving is not
 //! turned back: with an immovable partner the seed's step 6 would send it in again.
 
 use crate::config::Shape;
 
+use super::rough::rub_fixed;
 use super::{COINCIDENT_NORMAL, Law, may_touch, within};
 
 /// The point of `shape` nearest to `p` (a peg's centre) and the squared distance from it
@@ -51,29 +53,39 @@ pub(crate) struct Disc {
     pub velocity: [f64; 2],
     pub radius: f64,
     pub mass: f64,
+    /// Angular velocity (read and changed only by a rough law).
+    pub omega: f64,
 }
 
-/// A disc against one obstacle moving at `u` with restitution `e`: the disc's position and
-/// velocity updated, and the momentum given to the obstacle returned (zero when they do not
-/// collide or the disc already leaves).
+/// A disc against one obstacle moving at `u` with restitution `e` and friction `friction`:
+/// the disc's position, velocity (and a rough one's angular velocity) updated; returns the
+/// momentum given to the obstacle (zero when they do not collide or the disc already
+/// leaves) and the energy friction removed.
 #[inline]
-pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut Disc) -> [f64; 2] {
+pub(crate) fn collide(
+    shape: &Shape,
+    u: [f64; 2],
+    [e, friction]: [f64; 2],
+    law: &Law,
+    disc: &mut Disc,
+) -> ([f64; 2], f64) {
     let Disc {
         position,
         velocity,
         radius: r,
         mass: m,
+        omega,
     } = disc;
     let (r, m) = (*r, *m);
     let (q, distance2) = nearest(shape, *position);
     let reach = reach_of(shape, r, law);
     // A cheap squared early-out, then the rule on the distance itself.
     if !may_touch(distance2, reach) {
-        return [0.0, 0.0];
+        return ([0.0, 0.0], 0.0);
     }
     let distance = distance2.sqrt();
     if !within(distance, reach) {
-        return [0.0, 0.0];
+        return ([0.0, 0.0], 0.0);
     }
     // The normal from the obstacle's nearest point to the centre; on the segment itself,
     // its left normal (a fixed choice, as the seed's coincident normal).
@@ -101,12 +113,30 @@ pub(crate) fn collide(shape: &Shape, u: [f64; 2], e: f64, law: &Law, disc: &mut 
     // The normal velocity in the obstacle's frame, reversed and scaled if it moves in.
     let vn = (velocity[0] - u[0]) * n[0] + (velocity[1] - u[1]) * n[1];
     if vn >= 0.0 {
-        return [0.0, 0.0];
+        return ([0.0, 0.0], 0.0);
     }
     let dv = -(1.0 + law.restitution_of(e).at(-vn)) * vn;
     velocity[0] += dv * n[0];
     velocity[1] += dv * n[1];
-    [-m * dv * n[0], -m * dv * n[1]]
+    let given = [-m * dv * n[0], -m * dv * n[1]];
+    let Some(rough) = law.rough.filter(|rough| rough.rubs_with(friction)) else {
+        return (given, 0.0);
+    };
+    let inertia = rough.inertia(m, r);
+    let lever = law.reach(r);
+    let (tangential, work) = rub_fixed(
+        n,
+        u,
+        velocity,
+        omega,
+        lever,
+        m,
+        inertia,
+        m * dv,
+        friction,
+        &rough,
+    );
+    ([given[0] + tangential[0], given[1] + tangential[1]], work)
 }
 
 #[cfg(test)]
@@ -124,6 +154,7 @@ mod tests {
             velocity,
             radius,
             mass,
+            omega: 0.0,
         }
     }
 
@@ -137,7 +168,7 @@ mod tests {
             b: [5.0, 0.0],
         };
         let mut d = disc([1.0, 0.4], [3.0, -2.0], 0.5, 0.5);
-        let j = collide(&floor, [0.0; 2], 0.5, &law(), &mut d);
+        let j = collide(&floor, [0.0; 2], [0.5, 0.0], &law(), &mut d).0;
         assert_eq!(d.position, [1.0, 0.5]);
         assert_eq!(d.velocity, [3.0, 1.0]);
         assert_eq!(j, [0.0, -0.5 * 1.5 * 2.0]);
@@ -153,7 +184,7 @@ mod tests {
             b: [0.0, 0.0],
         };
         let mut d = disc([0.3, 0.4], [-1.0, -1.0], 1.0, 1.0);
-        collide(&segment, [0.0; 2], 1.0, &law(), &mut d);
+        collide(&segment, [0.0; 2], [1.0, 0.0], &law(), &mut d);
         let (p, v) = (d.position, d.velocity);
         assert!(
             (p[0] - 0.6).abs() < 1e-15 && (p[1] - 0.8).abs() < 1e-15,
@@ -175,13 +206,16 @@ mod tests {
             radius: 1.0,
         };
         let mut d = disc([1.2, 0.0], [-2.0, 3.0], 0.5, 2.0);
-        let j = collide(&peg, [0.0; 2], 0.8, &law(), &mut d);
+        let j = collide(&peg, [0.0; 2], [0.8, 0.0], &law(), &mut d).0;
         assert_eq!(d.position, [1.5, 0.0]);
         assert_eq!(d.velocity, [1.6, 3.0]);
         assert_eq!(j, [-2.0 * 3.6, 0.0]);
         // A disc leaving the peg is pushed out but keeps its velocity.
         let mut d = disc([1.2, 0.0], [2.0, 0.0], 0.5, 2.0);
-        assert_eq!(collide(&peg, [0.0; 2], 0.8, &law(), &mut d), [0.0, 0.0]);
+        assert_eq!(
+            collide(&peg, [0.0; 2], [0.8, 0.0], &law(), &mut d).0,
+            [0.0, 0.0]
+        );
         assert_eq!((d.position, d.velocity), ([1.5, 0.0], [2.0, 0.0]));
     }
 
@@ -202,11 +236,11 @@ mod tests {
             b: [5.0, 0.0],
         };
         let mut d = disc([1.0, 0.499], [2.0, -0.1], 0.5, 3.0);
-        let j = collide(&floor, [0.0; 2], 0.9, &law, &mut d);
+        let j = collide(&floor, [0.0; 2], [0.9, 0.0], &law, &mut d).0;
         assert_eq!((d.position, d.velocity), ([1.0, 0.5], [2.0, 0.0]));
         assert_eq!(j, [-0.0, -0.30000000000000004]);
         let mut d = disc([1.0, 0.499], [2.0, -0.5], 0.5, 3.0);
-        collide(&floor, [0.0; 2], 0.9, &law, &mut d);
+        collide(&floor, [0.0; 2], [0.9, 0.0], &law, &mut d);
         assert!(d.velocity[0] == 2.0 && (d.velocity[1] - 0.45).abs() < 1e-15);
         // On top of a peg, the same; on a floor rising at 1 the disc leaves at its speed.
         let peg = Shape::Peg {
@@ -214,14 +248,14 @@ mod tests {
             radius: 1.0,
         };
         let mut d = disc([0.0, 1.499], [0.0, -0.2], 0.5, 1.0);
-        collide(&peg, [0.0; 2], 1.0, &law, &mut d);
+        collide(&peg, [0.0; 2], [1.0, 0.0], &law, &mut d);
         assert_eq!(d.velocity, [0.0, 0.0]);
         let mut d = disc([0.0, 0.499], [0.0, 0.9], 0.5, 1.0);
-        collide(&floor, [0.0, 1.0], 1.0, &law, &mut d);
+        collide(&floor, [0.0, 1.0], [1.0, 0.0], &law, &mut d);
         assert_eq!(d.velocity, [0.0, 1.0]);
         // Without the option (or gravity), the seed's bounce however slow.
         let mut d = disc([1.0, 0.499], [2.0, -0.1], 0.5, 3.0);
-        collide(&floor, [0.0; 2], 0.9, &self::law(), &mut d);
+        collide(&floor, [0.0; 2], [0.9, 0.0], &self::law(), &mut d);
         assert_eq!(d.velocity, [2.0, 0.09]);
     }
 
@@ -234,7 +268,7 @@ mod tests {
             b: [5.0, 0.0],
         };
         let mut d = disc([0.0, 0.5], [0.0, 0.0], 0.5, 1.0);
-        let j = collide(&floor, [0.0, 1.0], 1.0, &law(), &mut d);
+        let j = collide(&floor, [0.0, 1.0], [1.0, 0.0], &law(), &mut d).0;
         let v = d.velocity;
         assert_eq!(v, [0.0, 2.0]);
         assert_eq!(j, [0.0, -2.0]);

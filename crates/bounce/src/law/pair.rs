@@ -1,5 +1,6 @@
 //! What a collision does to a pair of discs: the seed's steps 1–7, written once over
-//! [`Lanes`] for one pair, two or four at a time, with the same bits either way.
+//! [`Lanes`] for one pair, two or four at a time, with the same bits either way; for rough
+//! discs, then the tangential impulse and the rolling couple of [`super::rough`].
 
 use crate::config::{RestitutionModel, VelocityUpdate};
 use crate::lanes::Lanes;
@@ -15,6 +16,21 @@ pub struct Body {
     pub radius: f64,
     /// Mass under the active [`crate::MassModel`] (the radius, for the seed).
     pub mass: f64,
+    /// Angular velocity (counter-clockwise), read only by a rough law
+    /// ([`Law::rough`](super::Law::rough)).
+    pub angular_velocity: f64,
+}
+
+impl Body {
+    /// A body that does not spin.
+    pub fn new(velocity: [f64; 2], radius: f64, mass: f64) -> Body {
+        Body {
+            velocity,
+            radius,
+            mass,
+            angular_velocity: 0.0,
+        }
+    }
 }
 
 /// What resolving a pair changes.
@@ -29,6 +45,12 @@ pub struct Resolution {
     /// How fast the discs approached along the normal before the update (`v2n - v1n`;
     /// negative when they were separating): what tells an impact from a resting contact.
     pub approach: f64,
+    /// New angular velocity of the first disc (its old one under a smooth law).
+    pub w1: f64,
+    /// New angular velocity of the second disc.
+    pub w2: f64,
+    /// The energy friction and rolling resistance removed (0 under a smooth law).
+    pub friction_work: f64,
 }
 
 /// The seed's steps 1–7 for one detected pair, on the current state. `diff = p1 - p2` is the
@@ -37,13 +59,14 @@ pub struct Resolution {
 /// Step 3 pushes the discs apart, half each, only while `distance < collision_distance`.
 /// Steps 4–7 replace the normal velocities with the 1D elastic result for masses `m1`, `m2`
 /// (the seed uses the radii), scaled by the restitution, and keep the tangential ones.
+/// Rough discs then get the tangential impulse and the rolling couple of [`super::rough`].
 ///
 /// ```
 /// use bounce::law::{resolve_pair, Body, Law};
 /// use bounce::Config;
 /// let law = Law::new(&Config::default());
-/// let a = Body { velocity: [1.0, 0.0], radius: 1.0, mass: 1.0 };
-/// let b = Body { velocity: [-1.0, 0.0], radius: 1.0, mass: 1.0 };
+/// let a = Body::new([1.0, 0.0], 1.0, 1.0);
+/// let b = Body::new([-1.0, 0.0], 1.0, 1.0);
 /// // Equal discs head on at e = 1 exchange their normal velocities.
 /// let out = resolve_pair([-2.0, 0.0], &a, &b, &law);
 /// assert_eq!((out.v1, out.v2), ([-1.0, 0.0], [1.0, 0.0]));
@@ -57,17 +80,43 @@ pub fn resolve_pair(diff: [f64; 2], a: &Body, b: &Body, law: &Law) -> Resolution
         [a.mass, b.mass],
         law,
     );
-    Resolution {
+    let smooth = Resolution {
         push: out.push,
         v1: out.v1,
         v2: out.v2,
         approach: out.approach,
+        w1: a.angular_velocity,
+        w2: b.angular_velocity,
+        friction_work: 0.0,
+    };
+    let Some(rough) = law.rough.filter(|r| r.rubs_pairs()) else {
+        return smooth;
+    };
+    let rubbed = super::rough::rub_pair(
+        out.normal,
+        [a.velocity, b.velocity],
+        [out.v1, out.v2],
+        [a.angular_velocity, b.angular_velocity],
+        [a.radius, b.radius],
+        [a.mass, b.mass],
+        law.collision_radius_scale,
+        &rough,
+    );
+    Resolution {
+        v1: rubbed.v1,
+        v2: rubbed.v2,
+        w1: rubbed.omega1,
+        w2: rubbed.omega2,
+        friction_work: rubbed.work,
+        ..smooth
     }
 }
 
 /// [`Resolution`] in lanes.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LaneResolution<L> {
+    /// The collision normal, from disc 2 to disc 1.
+    pub normal: [L; 2],
     pub push: [L; 2],
     pub v1: [L; 2],
     pub v2: [L; 2],
@@ -154,6 +203,7 @@ pub(crate) fn resolve_lanes<L: Lanes>(
             ]
         };
         return LaneResolution {
+            normal: n,
             push,
             v1: keep(v1, va),
             v2: keep(v2, vb),
@@ -161,6 +211,7 @@ pub(crate) fn resolve_lanes<L: Lanes>(
         };
     }
     LaneResolution {
+        normal: n,
         push,
         v1,
         v2,
@@ -195,10 +246,12 @@ mod tests {
             };
             let angle = std::f64::consts::TAU * next();
             let diff = [d * libm::cos(angle), d * libm::sin(angle)];
-            let body = |r: f64, next: &mut dyn FnMut() -> f64| Body {
-                velocity: [4.0 * next() - 2.0, 4.0 * next() - 2.0],
-                radius: r,
-                mass: r * (0.5 + next()),
+            let body = |r: f64, next: &mut dyn FnMut() -> f64| {
+                Body::new(
+                    [4.0 * next() - 2.0, 4.0 * next() - 2.0],
+                    r,
+                    r * (0.5 + next()),
+                )
             };
             (diff, body(r[0], next), body(r[1], next))
         };
@@ -219,6 +272,7 @@ mod tests {
                     velocity_update,
                     mass_model: MassModel::Radius,
                     rest_below,
+                    rough: None,
                 };
                 for _ in 0..2000 {
                     let (one, two) = (bodies(&mut next), bodies(&mut next));

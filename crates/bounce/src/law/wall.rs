@@ -1,12 +1,43 @@
 //! What a wall does to a disc: the walls' one restitution rule (a disc moving into a wall
 //! leaves with its normal velocity reversed and scaled by the walls' restitution, or
-//! stopped when it rests, the momentum it gave recorded) and the hold that keeps a centre its radius inside them. The
-//! integration's reflection, the solver's walls as contacts and its hold after a push all
-//! apply these.
+//! stopped when it rests, the momentum it gave recorded), their friction for rough discs,
+//! and the hold that keeps a centre its radius inside them. The integration's reflection,
+//! the solver's walls as contacts and its hold after a push all apply these.
 
 use crate::lanes::Lanes;
 
 use super::Restitution;
+use super::rough::{Rough, rub_fixed};
+
+/// The unit normals of the left, right, bottom and top walls, into the box.
+const NORMALS: [[f64; 2]; 4] = [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
+
+/// Rough walls after a disc of radius `r` and mass `m` bounced off them: `hits` is the
+/// momentum each wall took (left, right, bottom, top; 0 where the disc did not bounce),
+/// the normal impulse of that wall's friction ([`super::rough`], lever arm `r`). Returns
+/// the energy removed.
+#[inline(never)]
+pub(crate) fn rub_walls(
+    hits: [f64; 4],
+    velocity: &mut [f64; 2],
+    omega: &mut f64,
+    r: f64,
+    m: f64,
+    rough: &Rough,
+) -> f64 {
+    let mut work = 0.0;
+    for (&hit, normal) in hits.iter().zip(NORMALS) {
+        if hit != 0.0 {
+            let inertia = rough.inertia(m, r);
+            let friction = rough.wall_friction;
+            let (_, w) = rub_fixed(
+                normal, [0.0; 2], velocity, omega, r, m, inertia, hit, friction, rough,
+            );
+            work += w;
+        }
+    }
+    work
+}
 
 /// One axis of the walls; returns the impulse given to the low and the high wall.
 ///

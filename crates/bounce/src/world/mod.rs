@@ -26,6 +26,7 @@ mod access;
 mod emitters;
 mod obstacles;
 mod part;
+mod rotation;
 
 mod state;
 mod step;
@@ -69,6 +70,8 @@ pub struct World {
     obstacle_impulses: Vec<[f64; 2]>,
     /// The work moving obstacles have done on the discs since the start.
     obstacle_work: f64,
+    /// The energy friction and rolling resistance have removed since the start.
+    friction_work: f64,
     /// The obstacles binned for the step; `None` until the next step builds them.
     #[serde(skip)]
     pub(crate) obstacles: Option<Obstacles>,
@@ -191,9 +194,13 @@ impl World {
         config.validate()?;
         let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
         let emitter_count = config.emitters.len();
+        let mut particles = Particles::default();
+        if config.is_rough() {
+            particles.start_turning();
+        }
         Ok(World {
             config,
-            particles: Particles::default(),
+            particles,
             next_id: 0,
             time: 0.0,
             steps: 0,
@@ -204,6 +211,7 @@ impl World {
             obstacle_states,
             obstacle_impulses: vec![[0.0; 2]; obstacle_count],
             obstacle_work: 0.0,
+            friction_work: 0.0,
             obstacles: None,
             trail: Trail::default(),
             obstacle_radius: 0.0,
@@ -260,6 +268,9 @@ impl World {
                     _ => EmitterState::default(),
                 })
                 .collect();
+        }
+        if config.is_rough() {
+            self.particles.start_turning();
         }
         self.config = config;
         self.obstacles = None;
@@ -436,8 +447,9 @@ impl World {
         &self.particles
     }
 
-    /// A 64-bit FNV-1a hash of the state (ids, positions, velocities, radii, in id order,
-    /// bit for bit) and the step count: equal hashes mean identical runs, on any platform.
+    /// A 64-bit FNV-1a hash of the state (ids, positions, velocities, radii, and where discs
+    /// turn their angular velocities and orientations, in id order, bit for bit) and the
+    /// step count: equal hashes mean identical runs, on any platform.
     pub fn state_hash(&self) -> u64 {
         let mut hash = 0xcbf2_9ce4_8422_2325u64;
         let mut eat = |bytes: [u8; 8]| {
@@ -451,6 +463,11 @@ impl World {
             eat((id.0 as u64).to_le_bytes());
             for v in [p.x[i], p.y[i], p.vx[i], p.vy[i], p.radius[i]] {
                 eat(v.to_bits().to_le_bytes());
+            }
+            if p.turning {
+                for v in [p.omega[i], p.theta[i]] {
+                    eat(v.to_bits().to_le_bytes());
+                }
             }
         }
         hash

@@ -163,6 +163,7 @@ impl World {
         self.obstacle_states = other.obstacle_states.clone();
         self.obstacle_impulses = other.obstacle_impulses.clone();
         self.obstacle_work = other.obstacle_work;
+        self.friction_work = other.friction_work;
         self.emitter_states = other.emitter_states.clone();
         self.removed = other.removed;
         self.emitted_ids = other.emitted_ids.clone();

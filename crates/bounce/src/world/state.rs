@@ -42,6 +42,7 @@ pub(super) struct WorldState {
     pub(super) obstacle_states: Vec<ObstacleState>,
     pub(super) obstacle_impulses: Vec<[f64; 2]>,
     pub(super) obstacle_work: f64,
+    pub(super) friction_work: f64,
     pub(super) emitter_states: Vec<EmitterState>,
     pub(super) removed: u32,
     pub(super) emitted_ids: Vec<[u32; 3]>,
@@ -74,6 +75,14 @@ impl TryFrom<WorldState> for World {
         if lengths.iter().any(|&l| l != n) {
             return Err(WorldError::Inconsistent(format!(
                 "{n} ids but array lengths {lengths:?}"
+            )));
+        }
+        let turning = if p.turning { n } else { 0 };
+        if p.omega.len() != turning || p.theta.len() != turning {
+            return Err(WorldError::Inconsistent(format!(
+                "{n} ids but {} angular velocities and {} orientations",
+                p.omega.len(),
+                p.theta.len()
             )));
         }
         // Ids are given in order and never again: `next_id` is the discs kept plus those
@@ -114,6 +123,8 @@ impl TryFrom<WorldState> for World {
                 velocity: [p.vx[i], p.vy[i]],
                 radius: p.radius[i],
                 mass: Some(p.mass[i]),
+                angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
+                orientation: p.theta.get(i).copied().unwrap_or(0.0),
             };
             particle
                 .validate_values()
@@ -169,6 +180,13 @@ impl TryFrom<WorldState> for World {
             )));
         }
         world.obstacle_work = state.obstacle_work;
+        if !state.friction_work.is_finite() {
+            return Err(WorldError::Inconsistent(format!(
+                "friction work {} is not finite",
+                state.friction_work
+            )));
+        }
+        world.friction_work = state.friction_work;
         if state.emitter_states.len() != world.config.emitters.len() {
             return Err(WorldError::Inconsistent(format!(
                 "{} emitters but {} emitter states",
@@ -207,6 +225,9 @@ impl TryFrom<WorldState> for World {
         world.emitted_ids = state.emitted_ids;
         world.broadphase.reference = state.reference;
         world.particles = state.particles;
+        if world.config.is_rough() {
+            world.particles.start_turning();
+        }
         world.next_id = state.next_id;
         world.time = state.time;
         world.steps = state.steps;

@@ -12,7 +12,7 @@ use crate::config::Config;
 use crate::config::ObstacleState;
 use crate::contacts::Contacts;
 use crate::context::StepContext;
-use crate::integrate::integrate;
+use crate::integrate::{integrate, turn};
 use crate::obstacles::{self, Met, Obstacles, Trail};
 use crate::part::Travel;
 use crate::particles::Particles;
@@ -90,7 +90,7 @@ impl World {
     pub(crate) fn finish_step(&mut self, dt: f64, done: Substepped) -> Result<(), StepError> {
         let Substepped {
             mut stats,
-            sums,
+            mut sums,
             met,
             mut profile,
             mut clock,
@@ -117,6 +117,9 @@ impl World {
         // impulses over the step.
         stats.virial = 0.5 * sums.virial.value() / dt;
         stats.wall_impulse = sums.walls.impulse();
+        sums.friction.merge(&met.friction);
+        stats.friction_work = sums.friction_work();
+        self.friction_work += stats.friction_work;
         self.sums = sums;
         self.measured = measured;
         stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
@@ -250,6 +253,9 @@ impl<'w> Stages<'w> {
     fn integrate(&mut self, done: &mut Substepped) -> Moved {
         let bp = &self.broadphase;
         let mut moved = integrate(self.particles, &self.ctx, &bp.reference, bp.radius_bound());
+        if self.particles.turning {
+            turn(self.particles, self.ctx.h, self.ctx.exec);
+        }
         // A disc sent back across a segment returns to where it was, which for a stray of
         // the last substep is past the allowance: with segments, no strays are kept.
         moved.too_many_strays |= self.follow && !moved.strays.is_empty();
@@ -332,6 +338,7 @@ impl<'w> Stages<'w> {
         };
         let resolved = resolve_all(self.contacts, self.particles, &ctx, uniform);
         done.sums.virial.merge(&resolved.virial);
+        done.sums.friction.merge(&resolved.friction);
         if pass == 0 {
             done.stats.collisions += resolved.impacts;
         }

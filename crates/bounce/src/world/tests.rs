@@ -118,6 +118,7 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         obstacle_states: Vec::new(),
         obstacle_impulses: Vec::new(),
         obstacle_work: 0.0,
+        friction_work: 0.0,
         emitter_states: Vec::new(),
         removed: 0,
         emitted_ids: Vec::new(),
@@ -590,10 +591,12 @@ fn resolve_one_by_one(contacts: &Contacts, p: &mut Particles, ctx: &StepContext)
     for c in contacts.list() {
         let (a, b) = (c.a as usize, c.b as usize);
         let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
-        let body = |i: usize| crate::law::Body {
-            velocity: [p.vx[i], p.vy[i]],
-            radius: p.radius[i],
-            mass: ctx.law.mass(p.radius[i], p.mass[i]),
+        let body = |i: usize| {
+            crate::law::Body::new(
+                [p.vx[i], p.vy[i]],
+                p.radius[i],
+                ctx.law.mass(p.radius[i], p.mass[i]),
+            )
         };
         let (one, two) = (body(a), body(b));
         let out = ctx.law.resolve(diff, &one, &two);

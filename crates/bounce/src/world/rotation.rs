@@ -1,0 +1,104 @@
+//! The discs' rotation as a front end reads and sets it: angular velocities and orientations
+//! by id, the rotational energy, the angular momentum and the work of friction (see
+//! `law::rough`). Smooth discs that never turned keep no rotation state: their angular
+//! velocities read as zeros and cost nothing.
+
+use crate::law::Law;
+use crate::particles::ParticleError;
+
+use super::World;
+
+impl World {
+    /// Every disc's angular velocity (counter-clockwise, radians per time unit), in id order;
+    /// zeros for discs that never turned.
+    pub fn angular_velocities(&self) -> Vec<f64> {
+        let p = &self.particles;
+        self.in_id_order()
+            .into_iter()
+            .map(|(_, i)| p.omega.get(i).copied().unwrap_or(0.0))
+            .collect()
+    }
+
+    /// Every disc's orientation (radians, in `[0, 2π]`), in id order.
+    pub fn orientations(&self) -> Vec<f64> {
+        let p = &self.particles;
+        self.in_id_order()
+            .into_iter()
+            .map(|(_, i)| p.theta.get(i).copied().unwrap_or(0.0))
+            .collect()
+    }
+
+    /// Sets every disc's angular velocity, `omega[k]` for id `k`, all or nothing: on the
+    /// wrong count or the first value that is not finite, returns its index and the error
+    /// and the world is unchanged. Smooth discs start keeping rotation state (a spinning disc
+    /// turns; only rough ones change their spin).
+    pub fn set_angular_velocities(&mut self, omega: &[f64]) -> Result<(), (usize, ParticleError)> {
+        let n = self.particles.len();
+        if omega.len() != n {
+            return Err((
+                omega.len().min(n),
+                ParticleError::WrongCount {
+                    expected: n,
+                    given: omega.len(),
+                },
+            ));
+        }
+        if let Some(k) = omega.iter().position(|w| !w.is_finite()) {
+            return Err((k, ParticleError::NonFiniteRotation(omega[k], 0.0)));
+        }
+        if omega.iter().all(|&w| w == 0.0) && !self.particles.turning {
+            return Ok(());
+        }
+        self.particles.start_turning();
+        for (&w, (_, i)) in omega.iter().zip(self.in_id_order()) {
+            self.particles.omega[i] = w;
+        }
+        Ok(())
+    }
+
+    /// The energy friction and rolling resistance have removed since the start (the sum of
+    /// [`crate::StepStats::friction_work`]): with `e = 1`, the kinetic, rotational and
+    /// potential energy lost.
+    pub fn friction_work(&self) -> f64 {
+        self.friction_work
+    }
+
+    /// The rotational energy `Σ ½ I ω²` (`I = k m r²`), summed in id order; 0 for discs
+    /// that never turned.
+    pub fn rotational_energy(&self) -> f64 {
+        let p = &self.particles;
+        if !p.turning {
+            return 0.0;
+        }
+        let law = Law::new(&self.config);
+        let k = self.config.inertia_factor;
+        self.in_id_order()
+            .into_iter()
+            .map(|(_, i)| {
+                let m = law.mass(p.radius[i], p.mass[i]);
+                0.5 * k * m * p.radius[i] * p.radius[i] * p.omega[i] * p.omega[i]
+            })
+            .sum()
+    }
+
+    /// The angular momentum about the origin, `Σ m (x v_y − y v_x) + I ω` (orbital and
+    /// spin), summed in id order, from the stored centres (wrapped into a periodic box, where
+    /// the orbital part is not conserved).
+    pub fn angular_momentum(&self) -> f64 {
+        let p = &self.particles;
+        let law = Law::new(&self.config);
+        let k = self.config.inertia_factor;
+        self.in_id_order()
+            .into_iter()
+            .map(|(_, i)| {
+                let m = law.mass(p.radius[i], p.mass[i]);
+                let orbital = m * (p.x[i] * p.vy[i] - p.y[i] * p.vx[i]);
+                let spin = p
+                    .omega
+                    .get(i)
+                    .map_or(0.0, |w| k * m * p.radius[i] * p.radius[i] * w);
+                orbital + spin
+            })
+            .sum()
+    }
+}
