@@ -28,7 +28,7 @@ use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
 use crate::law::{
-    Body, Disc, Law, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
+    Body, Disc, Law, Rough, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
 };
 use crate::obstacles::{self, Impacts, Met, uncross};
 use crate::particles::Particles;
@@ -205,17 +205,7 @@ fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
                 let (r, m, e) = (p.radius[i], rules.mass(p, i), rules.law.restitution_of(e));
                 let (left, right) = reflect(&mut p.x[i], &mut p.vx[i], r, min[0], max[0], e, m);
                 let (bottom, top) = reflect(&mut p.y[i], &mut p.vy[i], r, min[1], max[1], e, m);
-                let hits = [left, right, bottom, top];
-                impulse.add(hits);
-                if let Some(rough) = &rubbing
-                    && hits != [0.0; 4]
-                {
-                    let mut v = [p.vx[i], p.vy[i]];
-                    impulse
-                        .friction
-                        .add(rub_walls(hits, &mut v, &mut p.omega[i], r, m, rough));
-                    [p.vx[i], p.vy[i]] = v;
-                }
+                rub(p, i, [left, right, bottom, top], m, rubbing, &mut impulse);
             }
             Geometry::Periodic { min, size, .. } => {
                 p.image[i][0] = p.image[i][0].wrapping_add(wrap(&mut p.x[i], min[0], size[0]));
@@ -395,6 +385,26 @@ fn resolve(
     (virial, impacts, friction)
 }
 
+/// Records disc `i`'s wall `hits` (of mass `m`) in `impulse`, and rough walls' friction on it.
+fn rub(
+    p: &mut Particles,
+    i: usize,
+    hits: [f64; 4],
+    m: f64,
+    rubbing: Option<Rough>,
+    impulse: &mut WallSums,
+) {
+    impulse.add(hits);
+    if let Some(rough) = &rubbing
+        && hits != [0.0; 4]
+    {
+        let mut v = [p.vx[i], p.vy[i]];
+        let work = rub_walls(hits, &mut v, &mut p.omega[i], p.radius[i], m, rough);
+        impulse.friction.add(work);
+        [p.vx[i], p.vy[i]] = v;
+    }
+}
+
 /// The walls as contacts: each disc touching a wall and moving into it bounces.
 fn walls_as_contacts(p: &mut Particles, rules: &Rules) -> WallSums {
     let mut impulse = WallSums::default();
@@ -412,17 +422,7 @@ fn walls_as_contacts(p: &mut Particles, rules: &Rules) -> WallSums {
         let (r, m) = (p.radius[i], rules.mass(p, i));
         let [left, right] = touch_walls(p.x[i], &mut p.vx[i], r, m, min[0], max[0], e);
         let [bottom, top] = touch_walls(p.y[i], &mut p.vy[i], r, m, min[1], max[1], e);
-        let hits = [left, right, bottom, top];
-        impulse.add(hits);
-        if let Some(rough) = &rubbing
-            && hits != [0.0; 4]
-        {
-            let mut v = [p.vx[i], p.vy[i]];
-            impulse
-                .friction
-                .add(rub_walls(hits, &mut v, &mut p.omega[i], r, m, rough));
-            [p.vx[i], p.vy[i]] = v;
-        }
+        rub(p, i, [left, right, bottom, top], m, rubbing, &mut impulse);
     }
     impulse
 }

@@ -12,19 +12,19 @@ impl World {
     /// Every disc's angular velocity (counter-clockwise, radians per time unit), in id order;
     /// zeros for discs that never turned.
     pub fn angular_velocities(&self) -> Vec<f64> {
-        let p = &self.particles;
-        self.in_id_order()
-            .into_iter()
-            .map(|(_, i)| p.omega.get(i).copied().unwrap_or(0.0))
-            .collect()
+        self.by_id(&self.particles.omega)
     }
 
     /// Every disc's orientation (radians, in `[0, 2π]`), in id order.
     pub fn orientations(&self) -> Vec<f64> {
-        let p = &self.particles;
+        self.by_id(&self.particles.theta)
+    }
+
+    /// A rotation array in id order (zeros while it is not kept).
+    fn by_id(&self, values: &[f64]) -> Vec<f64> {
         self.in_id_order()
             .into_iter()
-            .map(|(_, i)| p.theta.get(i).copied().unwrap_or(0.0))
+            .map(|(_, i)| values.get(i).copied().unwrap_or(0.0))
             .collect()
     }
 
