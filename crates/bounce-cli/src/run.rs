@@ -23,7 +23,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::checkpoint;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
-use crate::stats_csv::{ObstacleColumns, StatsCsv, Totals, read_history};
+use crate::stats_csv::{ScenarioColumns, StatsCsv, Totals, read_history};
 use bounce_scenario::gsd::GsdWriter;
 
 /// What `bounce run` was asked to do.
@@ -423,7 +423,7 @@ impl Outputs {
             session,
             dir,
             schedule,
-            StatsCsv::create(dir, total_mass, ObstacleColumns::of(session))?,
+            StatsCsv::create(dir, total_mass, ScenarioColumns::of(session))?,
             gsd,
             total_mass,
         )?;
@@ -446,7 +446,7 @@ impl Outputs {
         let stats = StatsCsv::resume(
             dir,
             total_mass,
-            ObstacleColumns::of(session),
+            ScenarioColumns::of(session),
             keep(spec.stats_every),
             run,
         )?;

@@ -17,6 +17,12 @@
 //! obstacle, `obstacle_work`, the work the moving obstacles have done on the discs since the
 //! start.
 //!
+//! Rough or spinning discs (`[world] friction`, `[[disc]] angular_velocity`, `[[gas]] spin`)
+//! add `rotational_energy` (`Σ ½ I ω²`), `angular_momentum` (about the origin, orbital and
+//! spin) and `friction_work` (the energy friction and rolling resistance removed since the
+//! start): with `e = 1`, the kinetic, rotational and potential energy and `friction_work` add
+//! up to the energy at the start.
+//!
 //! A run that stops early (Ctrl-C, SIGTERM) writes a row for its last step too. A resumed
 //! run drops the rows after its checkpoint's step, and that extra row, and continues from
 //! the totals the checkpoint kept, so its file equals an uninterrupted run's byte for byte.
@@ -49,20 +55,24 @@ pub const COLUMNS: [&str; 14] = [
     "contacts",
 ];
 
-/// The obstacle columns of a scenario: its named groups and whether any obstacle moves.
+/// The columns a scenario adds: its obstacles' (its named groups, and whether any obstacle
+/// moves) and, where discs turn, the rotation's.
 #[derive(Clone, Debug, Default)]
-pub struct ObstacleColumns {
+pub struct ScenarioColumns {
     /// Name, pieces, moving.
     groups: Vec<(String, Range<usize>, bool)>,
     /// Whether to write `obstacle_work`.
     work: bool,
+    /// Whether to write the rotation's columns.
+    rotation: bool,
 }
 
-impl ObstacleColumns {
-    /// The columns for `session`'s obstacles.
+impl ScenarioColumns {
+    /// The columns for `session`'s obstacles and discs.
     pub fn of(session: &bounce_scenario::Session) -> Self {
         let groups = session.scenario.obstacle_groups();
-        ObstacleColumns {
+        ScenarioColumns {
+            rotation: session.world.particles().turns(),
             work: groups.iter().any(|g| g.moving),
             groups: groups
                 .into_iter()
@@ -84,6 +94,9 @@ impl ObstacleColumns {
         }
         if self.work {
             out.push("obstacle_work".into());
+        }
+        if self.rotation {
+            out.extend(["rotational_energy", "angular_momentum", "friction_work"].map(String::from));
         }
         out
     }
@@ -118,6 +131,11 @@ impl ObstacleColumns {
         }
         if self.work {
             out.push(world.obstacle_work().to_string());
+        }
+        if self.rotation {
+            out.push(world.rotational_energy().to_string());
+            out.push(world.angular_momentum().to_string());
+            out.push(world.friction_work().to_string());
         }
         out
     }
@@ -178,12 +196,12 @@ pub struct StatsCsv {
     writer: csv::Writer<AtomicFile>,
     pub totals: Totals,
     total_mass: f64,
-    obstacles: ObstacleColumns,
+    obstacles: ScenarioColumns,
 }
 
 impl StatsCsv {
     /// Starts `stats.csv` in `dir`; `total_mass` is the sum of the discs' masses.
-    pub fn create(dir: &Path, total_mass: f64, obstacles: ObstacleColumns) -> Result<Self> {
+    pub fn create(dir: &Path, total_mass: f64, obstacles: ScenarioColumns) -> Result<Self> {
         let mut writer = csv::Writer::from_writer(AtomicFile::create(&dir.join("stats.csv"))?);
         writer.write_record(obstacles.header())?;
         Ok(StatsCsv {
@@ -200,7 +218,7 @@ impl StatsCsv {
     pub fn resume(
         dir: &Path,
         total_mass: f64,
-        obstacles: ObstacleColumns,
+        obstacles: ScenarioColumns,
         keep: impl Fn(u64) -> bool,
         run: RunState,
     ) -> Result<Self> {

@@ -8,7 +8,11 @@
 //!
 //! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
 //! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
-//! order, and `log/kinetic_energy`.
+//! order, and `log/kinetic_energy`. Where discs turn (rough or spinning), also
+//! `particles/{moment_inertia,orientation,angmom}` as HOOMD-blue writes rotation about z:
+//! the moment of inertia `(0, 0, I)`, the orientation quaternion `(cos θ/2, 0, 0, sin θ/2)`
+//! and the angular momentum's conjugate quaternion `2 q ⊗ (0, 0, 0, I ω)`
+//! `= (−2 sin(θ/2) I ω, 0, 0, 2 cos(θ/2) I ω)`, so OVITO and freud show the orientations.
 //!
 //! - Positions are relative to the box centre (HOOMD's convention). In an open world the
 //!   centre is the origin, fixed for the whole file, so positions are absolute; the box is
@@ -295,6 +299,9 @@ impl GsdWriter {
             fits_f32(step, &what, "velocity", &p.velocity)?;
             let mass = model.mass(p.radius, p.mass.unwrap_or(0.0));
             fits_f32(step, &what, "diameter and mass", &[2.0 * p.radius, mass])?;
+            let inertia = world.config().inertia_factor * mass * p.radius * p.radius;
+            let angmom = 2.0 * inertia * p.angular_velocity;
+            fits_f32(step, &what, "moment of inertia and angular momentum", &[inertia, angmom])?;
         }
         fits_f32(step, "the box", "size", &size)?;
 
@@ -351,10 +358,39 @@ impl GsdWriter {
         let (rows, width) = self.types.clone();
         let count = rows.len() as u64 / width as u64;
         self.chunk("particles/types", Type::I8, count, width, &rows)?;
+        if world.particles().turns() {
+            self.rotation(world, &by_id)?;
+        }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
         self.frame += 1;
         Ok(())
+    }
+
+    /// The rotation chunks of a frame (see the module docs), particles in id order.
+    fn rotation(&mut self, world: &World, by_id: &[(bounce::ParticleId, bounce::Particle)]) -> Result<()> {
+        let (model, k) = (world.config().mass_model, world.config().inertia_factor);
+        let n = by_id.len() as u64;
+        let inertia: Vec<f64> = by_id
+            .iter()
+            .map(|(_, p)| k * model.mass(p.radius, p.mass.unwrap_or(0.0)) * p.radius * p.radius)
+            .collect();
+        let f32s = |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> {
+            values.flat_map(|v| (v as f32).to_le_bytes()).collect()
+        };
+        let moment = f32s(&mut inertia.iter().flat_map(|&i| [0.0, 0.0, i]));
+        self.chunk("particles/moment_inertia", Type::F32, n, 3, &moment)?;
+        let half = |p: &bounce::Particle| (libm::cos(p.orientation / 2.0), libm::sin(p.orientation / 2.0));
+        let orientation = f32s(&mut by_id.iter().flat_map(|(_, p)| {
+            let (c, s) = half(p);
+            [c, 0.0, 0.0, s]
+        }));
+        self.chunk("particles/orientation", Type::F32, n, 4, &orientation)?;
+        let angmom = f32s(&mut by_id.iter().zip(&inertia).flat_map(|((_, p), &i)| {
+            let ((c, s), l) = (half(p), i * p.angular_velocity);
+            [-2.0 * s * l, 0.0, 0.0, 2.0 * c * l]
+        }));
+        self.chunk("particles/angmom", Type::F32, n, 4, &angmom)
     }
 
     /// Writes the name list, the index and the header, and renames the file into place.

@@ -162,7 +162,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     // one-cell ring, and the pieces of one phase hold blocks rows that are that far apart
     // (see `Contacts::split`). Indices come from the current storage, so they are in bounds.
     #[inline(always)]
-    unsafe fn resolve<L: Lanes>(
+    unsafe fn resolve<L: Lanes, const ROUGH: bool>(
         pair: impl Fn(usize) -> (usize, usize),
         discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
         sums: &mut Resolved,
@@ -216,7 +216,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             let (ma, mb) = (L::gather(|k| mass_of(a(k))), L::gather(|k| mass_of(b(k))));
             let out = resolve_lanes(diff, [va, vb], [ra, rb], [ma, mb], law);
             // Rough discs: the tangential impulse and the rolling couple.
-            let (v1, v2, mut rubbed) = match spin {
+            // (`ROUGH` says `spin` is `Some`: smooth discs' code has no trace of it.)
+            let (v1, v2, mut rubbed) = match spin.as_ref().filter(|_| ROUGH) {
                 None => (out.v1, out.v2, [0.0; 4]),
                 Some(rough) => {
                     let (wa, wb) = (
@@ -259,7 +260,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
                 }
             }
             sums.virial.add_all(&terms[..L::LANES]);
-            if spin.is_some() {
+            if ROUGH {
                 sums.friction.add_all(&rubbed[..L::LANES]);
             }
             let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
@@ -315,7 +316,13 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             (contact.a as usize, contact.b as usize)
         };
         // SAFETY: as the caller promises.
-        unsafe { resolve::<L>(pair, discs, sums) };
+        unsafe {
+            if discs.spin.is_some() {
+                resolve::<L, true>(pair, discs, sums)
+            } else {
+                resolve::<L, false>(pair, discs, sums)
+            }
+        };
     }
     let prefetch_ahead = |runs: &[Range<usize>], k: usize| {
         if PREFETCH {
