@@ -3,7 +3,8 @@
 //!
 //! - **GSD** (HOOMD-blue's `hoomd` schema, as bounce, HOOMD and the `gsd` package write it):
 //!   `particles/position`, `velocity`, `diameter`, `mass`, `typeid` and `types`, and
-//!   `configuration/box`, of one frame. As in HOOMD's `create_state_from_gsd`, a chunk a frame
+//!   `configuration/box`, of one frame; with `particles/orientation`, `angmom` and
+//!   `moment_inertia` (rotation about z), each disc's orientation and angular velocity. As in HOOMD's `create_state_from_gsd`, a chunk a frame
 //!   lacks is taken from frame 0, and one frame 0 lacks from the schema's default (velocity 0,
 //!   diameter 1, mass 1, type 0 of `["A"]`). Positions are relative to the box centre: they
 //!   are placed around the world's box centre (the origin in an open world), and the file's
@@ -202,6 +203,34 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
         Some(c) => Some(floats(&mut file, c, "particles/mass", n, 1)?),
         None => None,
     };
+    // Rotation about z, as HOOMD-blue writes it (see `gsd`): the orientation quaternion
+    // (cos θ/2, 0, 0, sin θ/2) and the angular momentum's conjugate quaternion p, whose body
+    // angular momentum is (cos(θ/2) p_z − sin(θ/2) p_s) / 2, over the moment of inertia's z.
+    let quaternion = match chunk("particles/orientation") {
+        Some(c) => Some(floats(&mut file, c, "particles/orientation", n, 4)?),
+        None => None,
+    };
+    let spin = match (chunk("particles/angmom"), chunk("particles/moment_inertia")) {
+        (Some(p), Some(i)) => {
+            let p = floats(&mut file, p, "particles/angmom", n, 4)?;
+            let inertia = floats(&mut file, i, "particles/moment_inertia", n, 3)?;
+            Some((p, inertia))
+        }
+        _ => None,
+    };
+    let turn = |k: usize| -> (f64, f64) {
+        let q = quaternion.as_ref().map_or([1.0, 0.0, 0.0, 0.0], |q| {
+            [q[4 * k], q[4 * k + 1], q[4 * k + 2], q[4 * k + 3]]
+        });
+        let theta = (2.0 * libm::atan2(q[3], q[0])).rem_euclid(std::f64::consts::TAU);
+        let omega = spin.as_ref().map_or(0.0, |(p, inertia)| {
+            let (c, s) = (libm::cos(theta / 2.0), libm::sin(theta / 2.0));
+            let l = (c * p[4 * k + 3] - s * p[4 * k]) / 2.0;
+            let i = inertia[3 * k + 2];
+            if i > 0.0 { l / i } else { 0.0 }
+        });
+        (theta, omega)
+    };
     let bx = match chunk("configuration/box") {
         Some(c) => floats(&mut file, c, "configuration/box", 6, 1)?,
         None => vec![1.0, 1.0, 1.0, 0.0, 0.0, 0.0],
@@ -260,16 +289,19 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
         ));
     }
     let discs = (0..n as usize)
-        .map(|k| Particle {
-            position: [
-                world.centre[0] + position[2 * k],
-                world.centre[1] + position[2 * k + 1],
-            ],
-            velocity: [velocity[2 * k], velocity[2 * k + 1]],
-            radius: diameter[k] / 2.0,
-            mass: mass.as_ref().map(|m| m[k]),
-            angular_velocity: 0.0,
-            orientation: 0.0,
+        .map(|k| {
+            let (orientation, angular_velocity) = turn(k);
+            Particle {
+                position: [
+                    world.centre[0] + position[2 * k],
+                    world.centre[1] + position[2 * k + 1],
+                ],
+                velocity: [velocity[2 * k], velocity[2 * k + 1]],
+                radius: diameter[k] / 2.0,
+                mass: mass.as_ref().map(|m| m[k]),
+                angular_velocity,
+                orientation,
+            }
         })
         .collect();
     Ok(FileDiscs {
