@@ -40,7 +40,8 @@
 //! with 1; an error or a panic on one rank prints it and aborts the job (`MPI_Abort`).
 //! `BOUNCE_MPI_PANIC_AT=RANK:STEP` makes rank RANK panic after step STEP (for the tests).
 //!
-//! Not yet across ranks: obstacles, emitters and sinks (refused with a message).
+//! Not yet across ranks: obstacles, emitters, sinks and rough or spinning discs (refused with
+//! a message: a disc's record carries no rotation yet).
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -163,6 +164,10 @@ fn check_supported(session: &Session) -> Result<()> {
         (!config.obstacles.is_empty(), "[[obstacle]]"),
         (!config.emitters.is_empty(), "[[emitter]]"),
         (!config.sinks.is_empty(), "[[sink]]"),
+        (
+            session.world.particles().turns(),
+            "rough or spinning discs (friction, rolling_resistance, angular_velocity, spin)",
+        ),
     ];
     for (present, what) in refused {
         if present {

@@ -126,11 +126,11 @@ impl Painter {
                 continue;
             }
             let speed = p.vx()[i].hypot(p.vy()[i]);
-            paint.set_color(rgb(self.palette.colour(
-                p.ids()[i].0 as usize,
-                speed,
-                p.radius()[i],
-            )));
+            let spin = p.angular_velocity().get(i).copied().unwrap_or(0.0);
+            let colour = self
+                .palette
+                .colour(p.ids()[i].0 as usize, speed, p.radius()[i], spin);
+            paint.set_color(rgb(colour));
             if r < 0.75 {
                 // Smaller than a pixel: one pixel, so a million discs stay visible and fast.
                 if let Some(rect) = Rect::from_xywh(x.floor() as f32, y.floor() as f32, 1.0, 1.0) {
@@ -138,6 +138,23 @@ impl Painter {
                 }
             } else {
                 fill_circle(&mut pixmap, x, y, r, &paint);
+                if let Some(&theta) = p.orientation().get(i)
+                    && r >= 2.0
+                {
+                    // Where the disc has turned: a radius in a darker shade.
+                    let tip = (x + r * theta.cos(), y - r * theta.sin());
+                    paint.set_color(rgb(colour.map(|c| (c as f64 * 0.4) as u8)));
+                    let mut path = PathBuilder::new();
+                    path.move_to(x as f32, y as f32);
+                    path.line_to(tip.0 as f32, tip.1 as f32);
+                    if let Some(path) = path.finish() {
+                        let stroke = Stroke {
+                            width: (r / 6.0).clamp(1.0, 3.0) as f32,
+                            ..Stroke::default()
+                        };
+                        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+                    }
+                }
             }
         }
         pixmap

@@ -96,7 +96,9 @@ impl ScenarioColumns {
             out.push("obstacle_work".into());
         }
         if self.rotation {
-            out.extend(["rotational_energy", "angular_momentum", "friction_work"].map(String::from));
+            out.extend(
+                ["rotational_energy", "angular_momentum", "friction_work"].map(String::from),
+            );
         }
         out
     }

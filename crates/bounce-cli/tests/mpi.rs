@@ -286,6 +286,25 @@ fn a_bad_scenario_is_reported_once_and_every_rank_exits() {
 }
 
 #[test]
+fn rough_discs_are_refused_across_ranks_with_a_reason() {
+    // (A disc's record carries no rotation yet: refused rather than wrong.)
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        Some(2),
+        "pile.toml",
+        &dir.path().join("out"),
+        &sets(&["world.friction=0.5"]),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        stderr.matches("rough or spinning discs").count(),
+        1,
+        "{stderr}"
+    );
+}
+
+#[test]
 fn a_panic_on_one_rank_aborts_the_job() {
     let dir = tempfile::tempdir().unwrap();
     let mut command = Command::new("timeout");

@@ -49,11 +49,20 @@ fn rows(text: &str) -> Vec<std::collections::HashMap<String, f64>> {
 fn stats_balance_the_energy_and_the_trajectory_holds_the_rotation() {
     let s = Scratch::new();
     let scenario = s.scenario("rough.toml", ROUGH);
-    let (code, _, err) = output(bounce().arg("run").arg(&scenario).arg("--out").arg(s.path("out")));
+    let (code, _, err) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(s.path("out")),
+    );
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
     assert!(
-        text.lines().next().unwrap().ends_with(",rotational_energy,angular_momentum,friction_work"),
+        text.lines()
+            .next()
+            .unwrap()
+            .ends_with(",rotational_energy,angular_momentum,friction_work"),
         "{}",
         text.lines().next().unwrap()
     );
@@ -120,7 +129,13 @@ fn a_smooth_run_has_no_rotation_columns_or_chunks() {
         .replace("rolling_resistance = 0.02\n", "")
         .replace("spin = 4.0\n", "");
     let scenario = s.scenario("smooth.toml", &smooth);
-    let (code, _, err) = output(bounce().arg("run").arg(&scenario).arg("--out").arg(s.path("out")));
+    let (code, _, err) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(s.path("out")),
+    );
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
     assert!(!text.lines().next().unwrap().contains("rotational_energy"));

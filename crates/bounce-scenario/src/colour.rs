@@ -59,6 +59,25 @@ pub fn ramp(t: f64) -> Rgb {
     [0, 1, 2].map(|c| mix(STOPS[k][c], STOPS[k + 1][c]))
 }
 
+/// A diverging ramp for a signed `t` in [-1, 1] (clamped; NaN gives grey): blue for
+/// clockwise, light grey for none, red for counter-clockwise: how frames colour spin.
+pub fn spin_ramp(t: f64) -> Rgb {
+    const CLOCKWISE: Rgb = [59, 76, 192];
+    const STILL: Rgb = [220, 220, 220];
+    const ANTICLOCKWISE: Rgb = [180, 4, 38];
+    let t = if t.is_finite() {
+        t.clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
+    let (end, f) = if t < 0.0 {
+        (CLOCKWISE, -t)
+    } else {
+        (ANTICLOCKWISE, t)
+    };
+    [0, 1, 2].map(|c| (STILL[c] as f64 + (end[c] as f64 - STILL[c] as f64) * f).round() as u8)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -69,6 +88,16 @@ mod tests {
         assert_eq!(parse_colour("Blue"), Ok([40, 100, 220]));
         assert!(parse_colour("#ff80").unwrap_err().contains("#ff80"));
         assert!(parse_colour("mauve").is_err());
+    }
+
+    #[test]
+    fn spin_ramp_runs_from_blue_through_grey_to_red() {
+        assert_eq!(spin_ramp(-1.0), [59, 76, 192]);
+        assert_eq!(spin_ramp(-7.0), [59, 76, 192]);
+        assert_eq!(spin_ramp(0.0), [220, 220, 220]);
+        assert_eq!(spin_ramp(f64::NAN), [220, 220, 220]);
+        assert_eq!(spin_ramp(1.0), [180, 4, 38]);
+        assert_eq!(spin_ramp(0.5), [200, 112, 129]);
     }
 
     #[test]

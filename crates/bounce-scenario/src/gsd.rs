@@ -301,7 +301,12 @@ impl GsdWriter {
             fits_f32(step, &what, "diameter and mass", &[2.0 * p.radius, mass])?;
             let inertia = world.config().inertia_factor * mass * p.radius * p.radius;
             let angmom = 2.0 * inertia * p.angular_velocity;
-            fits_f32(step, &what, "moment of inertia and angular momentum", &[inertia, angmom])?;
+            fits_f32(
+                step,
+                &what,
+                "moment of inertia and angular momentum",
+                &[inertia, angmom],
+            )?;
         }
         fits_f32(step, "the box", "size", &size)?;
 
@@ -368,7 +373,11 @@ impl GsdWriter {
     }
 
     /// The rotation chunks of a frame (see the module docs), particles in id order.
-    fn rotation(&mut self, world: &World, by_id: &[(bounce::ParticleId, bounce::Particle)]) -> Result<()> {
+    fn rotation(
+        &mut self,
+        world: &World,
+        by_id: &[(bounce::ParticleId, bounce::Particle)],
+    ) -> Result<()> {
         let (model, k) = (world.config().mass_model, world.config().inertia_factor);
         let n = by_id.len() as u64;
         let inertia: Vec<f64> = by_id
@@ -380,7 +389,12 @@ impl GsdWriter {
         };
         let moment = f32s(&mut inertia.iter().flat_map(|&i| [0.0, 0.0, i]));
         self.chunk("particles/moment_inertia", Type::F32, n, 3, &moment)?;
-        let half = |p: &bounce::Particle| (libm::cos(p.orientation / 2.0), libm::sin(p.orientation / 2.0));
+        let half = |p: &bounce::Particle| {
+            (
+                libm::cos(p.orientation / 2.0),
+                libm::sin(p.orientation / 2.0),
+            )
+        };
         let orientation = f32s(&mut by_id.iter().flat_map(|(_, p)| {
             let (c, s) = half(p);
             [c, 0.0, 0.0, s]

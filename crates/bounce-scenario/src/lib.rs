@@ -32,7 +32,7 @@ pub mod palette;
 mod session;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod start;
-pub use colour::{Rgb, parse_colour, ramp};
+pub use colour::{Rgb, parse_colour, ramp, spin_ramp};
 pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
@@ -438,6 +438,8 @@ pub enum ColorBy {
     Radius,
     /// The colours the scenario sets (grey where none).
     Color,
+    /// By angular velocity: clockwise blue, still grey, counter-clockwise red.
+    Spin,
 }
 
 /// `[output]`: all intervals are in steps; 0 turns an output off.

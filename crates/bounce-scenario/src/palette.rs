@@ -2,7 +2,7 @@
 
 use bounce::World;
 
-use crate::{ColorBy, Rgb, ramp};
+use crate::{ColorBy, Rgb, ramp, spin_ramp};
 
 /// Grey for discs the scenario gives no colour.
 pub const NO_COLOUR: Rgb = [150, 150, 150];
@@ -19,6 +19,8 @@ pub struct Palette {
     pub speed_scale: f64,
     /// Radii at the ends of the ramp.
     pub radius_range: [f64; 2],
+    /// Angular velocity at either end of the spin ramp: 2.5 times the root-mean-square one.
+    pub spin_scale: f64,
 }
 
 impl Palette {
@@ -48,17 +50,26 @@ impl Palette {
             p.radius().iter().copied().fold(f64::INFINITY, f64::min),
             p.radius().iter().copied().fold(0.0, f64::max),
         ];
+        let spin = p.angular_velocity();
+        let mean_w2 = spin.iter().map(|w| w * w).sum::<f64>() / n;
+        let spin_scale = if mean_w2 > 0.0 {
+            2.5 * mean_w2.sqrt()
+        } else {
+            1.0
+        };
         Palette {
             colour_by,
             colours,
             speed_scale,
             radius_range,
+            spin_scale,
         }
     }
 
-    /// The colour of particle `id` moving at `speed` with `radius`.
-    pub fn colour(&self, id: usize, speed: f64, radius: f64) -> Rgb {
+    /// The colour of particle `id` moving at `speed`, turning at `spin`, with `radius`.
+    pub fn colour(&self, id: usize, speed: f64, radius: f64, spin: f64) -> Rgb {
         match self.colour_by {
+            ColorBy::Spin => spin_ramp(spin / self.spin_scale),
             ColorBy::Speed => ramp(speed / self.speed_scale),
             ColorBy::Radius => {
                 let [lo, hi] = self.radius_range;

@@ -69,7 +69,10 @@ fn the_scenarios_rough_fields_reach_the_world() {
     let gas = &spins[1..];
     assert!(gas.iter().all(|w| w.abs() <= 3.0));
     let mean = gas.iter().sum::<f64>() / gas.len() as f64;
-    assert!(mean.abs() < 0.5 && gas.iter().any(|w| w.abs() > 2.0), "{mean}");
+    assert!(
+        mean.abs() < 0.5 && gas.iter().any(|w| w.abs() > 2.0),
+        "{mean}"
+    );
     // The same gas without spin: the same places and velocities.
     let plain = Session::from_text("rough.toml", &ROUGH.replace("spin = 3.0", "")).unwrap();
     for k in 1..201 {
@@ -96,7 +99,11 @@ fn the_scenarios_rough_fields_reach_the_world() {
 fn a_bad_rough_value_is_an_error_naming_the_field_and_its_line() {
     for (from, to, field) in [
         ("friction = 0.4", "friction = -0.4", "friction"),
-        ("wall_friction = 0.8", "wall_friction = inf", "wall_friction"),
+        (
+            "wall_friction = 0.8",
+            "wall_friction = inf",
+            "wall_friction",
+        ),
         (
             "tangential_restitution = 0.2",
             "tangential_restitution = 1.5",
@@ -107,7 +114,11 @@ fn a_bad_rough_value_is_an_error_naming_the_field_and_its_line() {
             "rolling_resistance = -1.0",
             "rolling_resistance",
         ),
-        ("inertia_factor = 0.4", "inertia_factor = 0.0", "inertia_factor"),
+        (
+            "inertia_factor = 0.4",
+            "inertia_factor = 0.0",
+            "inertia_factor",
+        ),
         ("friction = 0.9", "friction = -2.0", "friction"),
     ] {
         let text = ROUGH.replacen(from, to, 1);
@@ -146,12 +157,21 @@ fn a_trajectory_carries_the_spins_and_a_run_restarts_from_it() {
     let start = Session::from_text("restart.toml", &text).unwrap();
     let (spins, turned) = (run.world.angular_velocities(), run.world.orientations());
     assert!(turned.iter().any(|&t| t > 0.1), "the discs turned");
-    for (k, (a, b)) in start.world.angular_velocities().iter().zip(&spins).enumerate() {
+    for (k, (a, b)) in start
+        .world
+        .angular_velocities()
+        .iter()
+        .zip(&spins)
+        .enumerate()
+    {
         assert!((a - b).abs() < 1e-5 * (1.0 + b.abs()), "{k}: ω {a} vs {b}");
     }
     for (k, (a, b)) in start.world.orientations().iter().zip(&turned).enumerate() {
         let gap = (a - b).abs();
-        assert!(gap < 1e-5 || (gap - std::f64::consts::TAU).abs() < 1e-5, "{k}: θ {a} vs {b}");
+        assert!(
+            gap < 1e-5 || (gap - std::f64::consts::TAU).abs() < 1e-5,
+            "{k}: θ {a} vs {b}"
+        );
     }
 }
 

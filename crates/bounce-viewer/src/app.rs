@@ -356,6 +356,15 @@ impl ViewerApp {
         } else {
             RestingContacts::Bounce
         };
+        ui.label("rough discs (friction turns them)");
+        ui.add(egui::Slider::new(&mut config.friction, 0.0..=1.0).text("friction"));
+        ui.add(
+            egui::Slider::new(&mut config.tangential_restitution, -1.0..=1.0)
+                .text("tangential restitution"),
+        );
+        ui.add(
+            egui::Slider::new(&mut config.rolling_resistance, 0.0..=0.5).text("rolling resistance"),
+        );
         if config != before
             && let Err(e) = self.session.world.set_config(config)
         {
@@ -368,6 +377,7 @@ impl ViewerApp {
             ui.radio_value(&mut self.colour_by, ColorBy::Speed, "speed");
             ui.radio_value(&mut self.colour_by, ColorBy::Radius, "radius");
             ui.radio_value(&mut self.colour_by, ColorBy::Color, "scenario");
+            ui.radio_value(&mut self.colour_by, ColorBy::Spin, "spin");
         });
         if old != self.colour_by {
             self.palette = Palette::for_world(
@@ -1002,6 +1012,45 @@ mod tests {
             a.session.world.config().resting_contacts,
             RestingContacts::Rest
         );
+    }
+
+    #[test]
+    fn rough_discs_show_where_they_turned_and_colour_by_spin() {
+        // One large disc turned a quarter turn, spinning counter-clockwise, friction on.
+        let text = "[world]\nboundary = \"walls\"\nmin = [0.0, 0.0]\nmax = [40.0, 40.0]\n\
+                    friction = 0.5\n[time]\ndt = 0.01\nsteps = 10\n\
+                    [[disc]]\nposition = [20.0, 20.0]\nradius = 8.0\nangular_velocity = 1.0\n";
+        let mut a = app("gas");
+        a.open_text("spin.toml", text).unwrap();
+        assert_eq!(a.session.world.config().friction, 0.5);
+        // π/2 at ω = 1: the radius points up.
+        a.session
+            .world
+            .set_angular_velocities(&[std::f64::consts::FRAC_PI_2 / 0.1])
+            .unwrap();
+        a.run_to(10);
+        a.session.world.set_angular_velocities(&[1.0]).unwrap();
+        a.colour_by = ColorBy::Spin;
+        a.palette = Palette::for_world(&a.session.world, ColorBy::Spin, a.session.colours.clone());
+        let view = View::fit([0.0, 0.0], [40.0, 40.0], 200, 200);
+        let mut raster = Raster::new(200, 200);
+        raster.draw(&a.session.world, &view, &a.palette, &a.obstacle_colours);
+        let pixel = |p: [f64; 2]| {
+            let [x, y] = view.to_pixel(p, 200, 200);
+            let k = (y as usize * 200 + x as usize) * 4;
+            [raster.pixels[k], raster.pixels[k + 1], raster.pixels[k + 2]]
+        };
+        let theta = a.session.world.orientations()[0];
+        assert!(
+            (theta - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+            "{theta}"
+        );
+        // Counter-clockwise at the palette's scale (2.5 × its own): red of the spin ramp.
+        let colour = bounce_scenario::spin_ramp(1.0 / 2.5);
+        assert_eq!(pixel([20.0, 14.0]), colour, "the disc below its centre");
+        let shade = colour.map(|c| (c as f64 * 0.4) as u8);
+        let on_radius = (-2..=2).any(|d| pixel([20.0 + d as f64 * 0.1, 25.0]) == shade);
+        assert!(on_radius, "the radius line upwards");
     }
 
     #[test]

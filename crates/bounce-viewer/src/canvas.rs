@@ -160,8 +160,16 @@ impl Raster {
                 p.ids()[i].0 as usize,
                 p.vx()[i].hypot(p.vy()[i]),
                 p.radius()[i],
+                p.angular_velocity().get(i).copied().unwrap_or(0.0),
             );
             self.disc(cx, cy, r, colour);
+            if let Some(&theta) = p.orientation().get(i)
+                && r >= 2.0
+            {
+                // Where the disc has turned: a radius in a darker shade.
+                let tip = [cx + r * theta.cos(), cy - r * theta.sin()];
+                self.line([cx, cy], tip, colour.map(|c| (c as f64 * 0.4) as u8));
+            }
         }
     }
 
@@ -254,6 +262,7 @@ mod tests {
             colours: vec![Some([255, 0, 0])],
             speed_scale: 1.0,
             radius_range: [1.0, 1.0],
+            spin_scale: 1.0,
         };
         let mut raster = Raster::new(200, 100);
         raster.draw(&world, &view, &palette, &[]);
@@ -285,6 +294,7 @@ mod tests {
             colours: Vec::new(),
             speed_scale: 1.0,
             radius_range: [1.0, 1.0],
+            spin_scale: 1.0,
         };
         let mut raster = Raster::new(200, 100);
         raster.draw(&world, &view, &palette, &[]);

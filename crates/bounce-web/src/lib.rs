@@ -143,9 +143,10 @@ impl Simulation {
         (0..p.len())
             .flat_map(|i| {
                 let speed = p.vx()[i].hypot(p.vy()[i]);
-                let [r, g, b] = self
-                    .palette
-                    .colour(p.ids()[i].0 as usize, speed, p.radius()[i]);
+                let spin = p.angular_velocity().get(i).copied().unwrap_or(0.0);
+                let [r, g, b] =
+                    self.palette
+                        .colour(p.ids()[i].0 as usize, speed, p.radius()[i], spin);
                 let rgb = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
                 [p.x()[i], p.y()[i], p.radius()[i], rgb as f64]
             })
