@@ -30,7 +30,9 @@ use serde::de::IntoDeserializer;
 /// ``velocity_update`` (``"all_detected"``, ``"approaching_only"``), ``resting_contacts``
 /// (``"bounce"``; ``"rest"``: contacts slower than 4 substeps of gravity's pull get
 /// restitution 0, so a disc resting on the floor, a segment or a peg keeps no ``|g| h``
-/// speed), ``obstacles`` (a list
+/// speed), the rough discs' ``friction``, ``wall_friction`` (``None``: ``friction``),
+/// ``tangential_restitution``, ``rolling_resistance`` and ``inertia_factor`` (all 0 but the
+/// last, ½: the seed's smooth discs; any friction makes the discs turn), ``obstacles`` (a list
 /// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
@@ -167,6 +169,13 @@ impl Config {
                         c.resting_contacts =
                             option::<RestingContacts>(&key, &name, "\"bounce\", \"rest\"")?
                     }
+                    "friction" => c.friction = typed(&key, v, "a number")?,
+                    "wall_friction" => c.wall_friction = typed(&key, v, "None or a number")?,
+                    "tangential_restitution" => {
+                        c.tangential_restitution = typed(&key, v, "a number")?
+                    }
+                    "rolling_resistance" => c.rolling_resistance = typed(&key, v, "a number")?,
+                    "inertia_factor" => c.inertia_factor = typed(&key, v, "a number")?,
                     "obstacles" => {
                         let list: Vec<PyRef<'_, Obstacle>> =
                             typed(&key, v, "a list of bounce.Obstacle")?;
@@ -324,6 +333,36 @@ impl Config {
         resting_contacts_name(self.inner.resting_contacts)
     }
 
+    /// Coulomb's friction coefficient of disc–disc contacts (0: the seed's smooth discs).
+    #[getter]
+    fn friction(&self) -> f64 {
+        self.inner.friction
+    }
+
+    /// The walls' friction coefficient (``None``: ``friction``).
+    #[getter]
+    fn wall_friction(&self) -> Option<f64> {
+        self.inner.wall_friction
+    }
+
+    /// Walton's tangential restitution in [-1, 1] (0: slip removed).
+    #[getter]
+    fn tangential_restitution(&self) -> f64 {
+        self.inner.tangential_restitution
+    }
+
+    /// The rolling resistance (0: none).
+    #[getter]
+    fn rolling_resistance(&self) -> f64 {
+        self.inner.rolling_resistance
+    }
+
+    /// ``k`` in each disc's moment of inertia ``k m r²`` (½: a solid disc).
+    #[getter]
+    fn inertia_factor(&self) -> f64 {
+        self.inner.inertia_factor
+    }
+
     /// The obstacles as configured (a moving one where it starts).
     #[getter]
     fn obstacles(&self) -> Vec<Obstacle> {
@@ -360,6 +399,16 @@ impl Config {
         parts.push(format!("restitution_model={:?}", self.restitution_model()));
         parts.push(format!("velocity_update={:?}", self.velocity_update()));
         parts.push(format!("resting_contacts={:?}", self.resting_contacts()));
+        if c.is_rough() || c.inertia_factor != 0.5 {
+            parts.push(format!("friction={:?}", c.friction));
+            if let Some(w) = c.wall_friction {
+                parts.push(format!("wall_friction={w:?}"));
+            }
+            parts.push(format!(
+                "tangential_restitution={:?}, rolling_resistance={:?}, inertia_factor={:?}",
+                c.tangential_restitution, c.rolling_resistance, c.inertia_factor
+            ));
+        }
         if !c.obstacles.is_empty() {
             parts.push(format!("obstacles=[{} obstacles]", c.obstacles.len()));
         }

@@ -489,6 +489,9 @@ impl World {
         d.set_item("pressure", s.pressure)?;
         d.set_item("substeps", s.substeps)?;
         d.set_item("obstacle_work", s.obstacle_work)?;
+        d.set_item("friction_work", s.friction_work)?;
+        d.set_item("rotational_energy", world.rotational_energy())?;
+        d.set_item("angular_momentum", world.angular_momentum())?;
         d.set_item("emitted", s.emitted)?;
         d.set_item("removed", s.removed)?;
         Ok(d)
@@ -563,6 +566,36 @@ impl World {
             .map_err(|(k, e)| PyValueError::new_err(format!("disc {k}: {e}")))
     }
 
+    /// Angular velocities (counter-clockwise, radians per time unit), shape (N,), in id
+    /// order (a copy; zeros for discs that never turned). Settable: a spinning disc turns,
+    /// and rough discs (``Config(friction=...)``) change their spin at contacts.
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        Array1::from(self.get().angular_velocities()).into_pyarray(py)
+    }
+
+    #[setter]
+    fn set_angular_velocities(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_unlocked()?;
+        let n = self.get().len();
+        let (values, _) = float_array(py, "angular_velocities", value, None, Some(n))?;
+        self.get_mut()
+            .set_angular_velocities(&values)
+            .map_err(|(k, e)| PyValueError::new_err(format!("disc {k}: {e}")))
+    }
+
+    /// Orientations (radians, within one turn), shape (N,), in id order (a copy).
+    #[getter]
+    fn orientations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        Array1::from(self.get().orientations()).into_pyarray(py)
+    }
+
+    /// The energy friction and rolling resistance have removed since the start.
+    #[getter]
+    fn friction_work(&self) -> f64 {
+        self.get().friction_work()
+    }
+
     /// Radii, shape (N,), in id order (a copy).
     #[getter]
     fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -589,8 +622,8 @@ impl World {
     }
 
     /// Read-only arrays over the engine's own memory, in storage order, without a copy:
-    /// ``x``, ``y``, ``vx``, ``vy``, ``radius`` (float64) and ``ids`` (uint32, the id of
-    /// each storage slot). Storage order changes when the world steps, so while the view or
+    /// ``x``, ``y``, ``vx``, ``vy``, ``radius``, ``omega`` (float64; ``omega`` empty while no
+    /// disc turns) and ``ids`` (uint32, the id of each storage slot). Storage order changes when the world steps, so while the view or
     /// any array taken from it is alive the world refuses to step or change (``RuntimeError``).
     /// Use it as a context manager::
     ///
@@ -626,6 +659,7 @@ impl World {
                 view(p.vy())?,
                 view(p.radius())?,
                 ids.into_any().unbind(),
+                view(p.angular_velocity())?,
             ]),
         })
     }
@@ -701,7 +735,7 @@ impl Drop for ViewGuard {
 /// Read-only arrays over a world's storage (see ``World.storage_view``).
 #[pyclass(module = "bounce", name = "StorageView")]
 pub struct StorageView {
-    arrays: Option<[Py<PyAny>; 6]>,
+    arrays: Option<[Py<PyAny>; 7]>,
 }
 
 impl StorageView {
@@ -744,6 +778,11 @@ impl StorageView {
     #[getter]
     fn ids(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.array(py, 5)
+    }
+    /// Angular velocity of each storage slot (empty while no disc turns).
+    #[getter]
+    fn omega(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.array(py, 6)
     }
 
     fn __enter__(slf: Py<Self>) -> Py<Self> {

@@ -66,6 +66,7 @@ class Obstacle:
         velocity: Optional[_Pair] = None,
         force: Optional[_Pair] = None,
         mass: Optional[float] = None,
+        friction: Optional[float] = None,
     ) -> Obstacle: ...
     @staticmethod
     def peg(
@@ -76,6 +77,7 @@ class Obstacle:
         velocity: Optional[_Pair] = None,
         force: Optional[_Pair] = None,
         mass: Optional[float] = None,
+        friction: Optional[float] = None,
     ) -> Obstacle: ...
     @property
     def kind(self) -> Literal["segment", "peg"]: ...
@@ -87,6 +89,8 @@ class Obstacle:
     def radius(self) -> Optional[float]: ...
     @property
     def restitution(self) -> Optional[float]: ...
+    @property
+    def friction(self) -> Optional[float]: ...
 
 def polyline(
     points: Sequence[_Pair],
@@ -94,6 +98,7 @@ def polyline(
     *,
     restitution: Optional[float] = None,
     velocity: Optional[_Pair] = None,
+    friction: Optional[float] = None,
 ) -> List[Obstacle]: ...
 def rectangle(
     centre: _Pair,
@@ -102,6 +107,7 @@ def rectangle(
     *,
     restitution: Optional[float] = None,
     velocity: Optional[_Pair] = None,
+    friction: Optional[float] = None,
 ) -> List[Obstacle]: ...
 
 class Config:
@@ -124,6 +130,11 @@ class Config:
         restitution_model: Literal["scale_each_normal_velocity", "relative_normal_velocity"] = ...,
         velocity_update: Literal["all_detected", "approaching_only"] = ...,
         resting_contacts: Literal["bounce", "rest"] = ...,
+        friction: float = ...,
+        wall_friction: Optional[float] = ...,
+        tangential_restitution: float = ...,
+        rolling_resistance: float = ...,
+        inertia_factor: float = ...,
         obstacles: Sequence[Obstacle] = ...,
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
@@ -158,6 +169,16 @@ class Config:
     def velocity_update(self) -> str: ...
     @property
     def resting_contacts(self) -> str: ...
+    @property
+    def friction(self) -> float: ...
+    @property
+    def wall_friction(self) -> Optional[float]: ...
+    @property
+    def tangential_restitution(self) -> float: ...
+    @property
+    def rolling_resistance(self) -> float: ...
+    @property
+    def inertia_factor(self) -> float: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""
@@ -174,6 +195,8 @@ class StorageView:
     def radius(self) -> npt.NDArray[np.float64]: ...
     @property
     def ids(self) -> npt.NDArray[np.uint32]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64]: ...
     def close(self) -> None: ...
     def __enter__(self) -> "StorageView": ...
     def __exit__(self, *args: object) -> bool: ...
@@ -248,6 +271,14 @@ class World:
     def velocities(self) -> npt.NDArray[np.float64]: ...
     @velocities.setter
     def velocities(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]: ...
+    @angular_velocities.setter
+    def angular_velocities(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def orientations(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def friction_work(self) -> float: ...
     @property
     def radii(self) -> npt.NDArray[np.float64]: ...
     @property
