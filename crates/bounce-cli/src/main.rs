@@ -56,7 +56,7 @@ enum Command {
         quiet: bool,
     },
     /// Write a commented scenario to start from (gas, pile, newtons-cradle, brownian,
-    /// mixing, million, galton-board, hourglass, piston, effusion).
+    /// mixing, million, galton-board, hourglass, piston, effusion, angle-of-repose).
     New {
         /// The template's name.
         template: String,

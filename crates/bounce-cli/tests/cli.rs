@@ -338,6 +338,7 @@ fn new_writes_templates_that_check_cleanly() {
         "hourglass",
         "piston",
         "effusion",
+        "angle-of-repose",
     ] {
         let file = s.path(&format!("{name}.toml"));
         let (code, _, stderr) = output(bounce().args(["new", name, "--out"]).arg(&file));

@@ -37,7 +37,7 @@ pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
-pub const TEMPLATES: [(&str, &str); 10] = [
+pub const TEMPLATES: [(&str, &str); 11] = [
     ("gas", include_str!("../../../scenarios/gas.toml")),
     ("pile", include_str!("../../../scenarios/pile.toml")),
     (
@@ -54,6 +54,10 @@ pub const TEMPLATES: [(&str, &str); 10] = [
     (
         "hourglass",
         include_str!("../../../scenarios/hourglass.toml"),
+    ),
+    (
+        "angle-of-repose",
+        include_str!("../../../scenarios/angle-of-repose.toml"),
     ),
     ("piston", include_str!("../../../scenarios/piston.toml")),
     ("effusion", include_str!("../../../scenarios/effusion.toml")),

@@ -7,7 +7,7 @@
 use bounce_scenario::Session;
 
 /// `(template, state hash after 200 steps)`.
-const TEMPLATES: [(&str, u64); 8] = [
+const TEMPLATES: [(&str, u64); 9] = [
     ("gas", 0xfdc4_568d_6ad9_5664),
     ("pile", 0xc60b_c57a_5279_98e3),
     ("galton-board", 0x2bd2_e9c4_9649_5597),
@@ -16,6 +16,7 @@ const TEMPLATES: [(&str, u64); 8] = [
     ("effusion", 0x9a90_83e2_7f01_da5f),
     ("newtons-cradle", 0x03f5_e426_854e_f4b8),
     ("piston", 0xb684_0245_0e20_5ce5),
+    ("angle-of-repose", 0xd5d8_e402_b960_a77e),
 ];
 
 fn hash_after(name: &str, threads: usize, steps: usize) -> u64 {
@@ -104,4 +105,24 @@ fn the_piston_keeps_its_bits_whenever_the_candidates_are_listed() {
     }
     // The gas pushed on the piston (the test compares something that happened).
     assert!(moved > 0.0);
+}
+
+/// The rough discs' physics, pinned where it acts: the `angle-of-repose` template after its
+/// first discs have landed and rolled (2,500 steps), on 1 and 2 threads and the plain step.
+#[test]
+fn the_rough_heap_keeps_its_bits() {
+    const PINNED: u64 = 0xf77f_0061_2be0_a995;
+    for threads in [1, 2] {
+        assert_eq!(
+            hash_after("angle-of-repose", threads, 2500),
+            PINNED,
+            "{threads} threads"
+        );
+    }
+    let mut session = Session::builtin("angle-of-repose").unwrap();
+    for _ in 0..2500 {
+        bounce::plain::step(&mut session.world, session.dt).unwrap();
+    }
+    assert!(session.world.friction_work() > 0.0);
+    assert_eq!(session.world.state_hash(), PINNED, "the plain step");
 }

@@ -195,3 +195,39 @@ fn a_checkpoint_keeps_the_spins_and_a_resumed_run_equals_an_uninterrupted_one() 
     assert_eq!(resumed.state_hash(), whole.world.state_hash());
     assert_eq!(resumed.friction_work(), whole.world.friction_work());
 }
+
+/// The `angle-of-repose` template run whole with `friction` and `rolling_resistance`: the
+/// heap's angle in degrees.
+fn repose(friction: f64, rolling: f64) -> Option<f64> {
+    let text = bounce_scenario::template("angle-of-repose")
+        .unwrap()
+        .replace(
+            "friction = 0.5\nwall_friction",
+            &format!("friction = {friction:?}\nwall_friction"),
+        )
+        .replace(
+            "rolling_resistance = 0.1",
+            &format!("rolling_resistance = {rolling:?}"),
+        );
+    let mut s = Session::from_text("angle-of-repose.toml", &text).unwrap();
+    assert_eq!(s.world.config().friction, friction);
+    for _ in 0..s.steps {
+        s.step().unwrap();
+    }
+    assert_eq!(s.world.len(), 1000);
+    bounce_scenario::analysis::repose_angle(&s.world, 0.0, 2.0)
+}
+
+#[test]
+fn a_poured_heap_stands_steeper_with_friction_and_rolling_resistance() {
+    // Smooth discs flow out flat; friction holds a heap; rolling resistance a steeper one.
+    let smooth = repose(0.0, 0.0).unwrap_or(0.0);
+    let rough = repose(0.5, 0.0).unwrap();
+    let rolling = repose(0.5, 0.1).unwrap();
+    assert!(smooth < 3.0, "smooth discs: {smooth}°");
+    assert!((10.0..22.0).contains(&rough), "μ = 0.5: {rough}°");
+    assert!(
+        rolling > rough + 4.0,
+        "μ = 0.5, μ_r = 0.1: {rolling}° against {rough}°"
+    );
+}
