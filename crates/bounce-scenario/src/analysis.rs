@@ -1,6 +1,6 @@
 //! Quantities the CLI's plots and the viewer's panels both show: masses, temperature, the
-//! speed histogram against the 2D Maxwell–Boltzmann distribution, and the hard-disc
-//! equation of state and adiabat the pressure is compared with.
+//! speed histogram against the 2D Maxwell–Boltzmann distribution, the hard-disc equation of
+//! state and adiabat the pressure is compared with, and a heap's angle of repose.
 
 use bounce::World;
 use bounce::scene::maxwell_boltzmann_pdf;
@@ -173,6 +173,53 @@ pub fn hard_disc_adiabat(a0: f64, p0: f64, disc_area: f64, a: f64) -> f64 {
     p0 * (z(a) / z(a0)) * (-integral).exp() * (a0 / a)
 }
 
+/// The angle of repose of a heap on the floor, in degrees: the mean of its two flanks'
+/// slopes. The surface is the highest disc top `y + r` in each column of `column` width
+/// (empty columns left out); each flank is the straight line fitted (least squares) to the
+/// surface from the peak outwards while it is between 20 % and 80 % of the peak's height
+/// above `floor`. `None` without a flank of three columns.
+pub fn repose_angle(world: &World, floor: f64, column: f64) -> Option<f64> {
+    let p = world.particles();
+    let left = p.x().iter().copied().fold(f64::INFINITY, f64::min);
+    let mut tops: Vec<Option<f64>> = Vec::new();
+    for i in 0..p.len() {
+        let k = ((p.x()[i] - left) / column) as usize;
+        if tops.len() <= k {
+            tops.resize(k + 1, None);
+        }
+        let top = p.y()[i] + p.radius()[i] - floor;
+        tops[k] = Some(tops[k].map_or(top, |t: f64| t.max(top)));
+    }
+    let (peak, height) = tops
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| t.map(|t| (k, t)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let flank = |columns: &mut dyn Iterator<Item = usize>| -> Option<f64> {
+        let points: Vec<(f64, f64)> = columns
+            .filter_map(|k| tops[k].map(|t| ((k as f64 + 0.5) * column, t)))
+            .filter(|&(_, t)| t >= 0.2 * height && t <= 0.8 * height)
+            .collect();
+        if points.len() < 3 {
+            return None;
+        }
+        let n = points.len() as f64;
+        let (mx, my) = points
+            .iter()
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+        let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+            (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
+        });
+        Some((sxy / sxx).abs().atan().to_degrees())
+    };
+    let left_flank = flank(&mut (0..peak).rev());
+    let right_flank = flank(&mut (peak + 1..tops.len()));
+    match (left_flank, right_flank) {
+        (Some(a), Some(b)) => Some((a + b) / 2.0),
+        (a, b) => a.or(b),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -222,52 +269,5 @@ mod tests {
             .set_velocity(bounce::ParticleId(1), [-2.0, 0.0])
             .unwrap();
         assert!((temperature(&world, 2.0) - 2.0).abs() < 1e-12);
-    }
-}
-
-/// The angle of repose of a heap on the floor, in degrees: the mean of its two flanks'
-/// slopes. The surface is the highest disc top `y + r` in each column of `column` width
-/// (empty columns left out); each flank is the straight line fitted (least squares) to the
-/// surface from the peak outwards while it is between 20 % and 80 % of the peak's height
-/// above `floor`. `None` without a flank of three columns.
-pub fn repose_angle(world: &World, floor: f64, column: f64) -> Option<f64> {
-    let p = world.particles();
-    let left = p.x().iter().copied().fold(f64::INFINITY, f64::min);
-    let mut tops: Vec<Option<f64>> = Vec::new();
-    for i in 0..p.len() {
-        let k = ((p.x()[i] - left) / column) as usize;
-        if tops.len() <= k {
-            tops.resize(k + 1, None);
-        }
-        let top = p.y()[i] + p.radius()[i] - floor;
-        tops[k] = Some(tops[k].map_or(top, |t: f64| t.max(top)));
-    }
-    let (peak, height) = tops
-        .iter()
-        .enumerate()
-        .filter_map(|(k, t)| t.map(|t| (k, t)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let flank = |columns: &mut dyn Iterator<Item = usize>| -> Option<f64> {
-        let points: Vec<(f64, f64)> = columns
-            .filter_map(|k| tops[k].map(|t| ((k as f64 + 0.5) * column, t)))
-            .filter(|&(_, t)| t >= 0.2 * height && t <= 0.8 * height)
-            .collect();
-        if points.len() < 3 {
-            return None;
-        }
-        let n = points.len() as f64;
-        let (mx, my) = points
-            .iter()
-            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-        let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-            (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
-        });
-        Some((sxy / sxx).abs().atan().to_degrees())
-    };
-    let left_flank = flank(&mut (0..peak).rev());
-    let right_flank = flank(&mut (peak + 1..tops.len()));
-    match (left_flank, right_flank) {
-        (Some(a), Some(b)) => Some((a + b) / 2.0),
-        (a, b) => a.or(b),
     }
 }
