@@ -97,6 +97,8 @@ try {
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
     result.galton_300 = await page.evaluate(() => window.bounceFallback.runTo("galton-board", 300));
+    result.repose_2500 = await page.evaluate(() => window.bounceFallback.runTo("angle-of-repose", 2500));
+    result.repose_turned = await page.evaluate(() => window.bounceFallback.turned("angle-of-repose", 300));
     result.effusion_regions = await page.evaluate(() => window.bounceFallback.regions("effusion"));
   }
   if (mode === "webgl" || mode === "fallback") {

@@ -153,6 +153,12 @@ impl Simulation {
             .collect()
     }
 
+    /// Each disc's orientation in radians, in the order of [`Simulation::discs`]; empty
+    /// while no disc turns (smooth discs).
+    pub fn orientations(&self) -> Vec<f64> {
+        self.session.world.particles().orientation().to_vec()
+    }
+
     /// `[kind, a, b, c, d, colour, ...]` of every obstacle where it is now: a segment is
     /// kind 0 from `(a, b)` to `(c, d)`, a peg kind 1 at `(a, b)` with radius `c` (`d` = 0);
     /// the colour is `0xRRGGBB`.

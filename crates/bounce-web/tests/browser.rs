@@ -138,6 +138,14 @@ fn check_run(result: &serde_json::Value) {
             "galton board: browser {browser:?} vs native {native:?}"
         );
     }
+    // Rough discs (friction, rolling resistance, spin) too.
+    if let Some(browser) = result["repose_2500"].as_str() {
+        let native = native_status("angle-of-repose", 2500);
+        assert!(
+            browser.starts_with(&native),
+            "angle of repose: browser {browser:?} vs native {native:?}"
+        );
+    }
 }
 
 /// Counts pixels in a rectangle that differ from the canvas background, and their colours.
@@ -191,6 +199,9 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
     let result = drive(&server, "fallback", &shot);
     check_run(&result);
     assert!(result["galton_300"].is_string(), "{result}");
+    assert!(result["repose_2500"].is_string(), "{result}");
+    // The discs the spout has poured by step 300 each carry an orientation to draw.
+    assert!(result["repose_turned"].as_u64().unwrap() > 10, "{result}");
     // The effusion scenario's sink (kind 1), which the page outlines.
     assert_eq!(
         result["effusion_regions"],
