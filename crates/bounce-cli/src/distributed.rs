@@ -40,8 +40,9 @@
 //! with 1; an error or a panic on one rank prints it and aborts the job (`MPI_Abort`).
 //! `BOUNCE_MPI_PANIC_AT=RANK:STEP` makes rank RANK panic after step STEP (for the tests).
 //!
-//! Not yet across ranks: obstacles, emitters, sinks and rough or spinning discs (refused with
-//! a message: a disc's record carries no rotation yet).
+//! Not yet across ranks: obstacles, emitters and sinks (refused with a message). Rough discs
+//! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
+//! state its angular velocity, and the energy friction removed is one more exact sum.
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -74,8 +75,10 @@ const CELLS_PER_PASS: f64 = 13.0;
 /// redistributions (each rebuilds every part: measured ~0.3 s at 10^6 discs on 2 ranks) and
 /// thicker ghost layers (each ghost is stepped on two ranks).
 const DRIFT_CELLS: f64 = 4.0;
-/// Exact sums a step reduces: the virial and the four walls.
-const SUMS: usize = 5;
+/// Exact sums a step reduces: the virial, the four walls and the energy friction removed.
+const SUMS: usize = 6;
+/// Words of a ghost's state: x, y, vx, vy, ω.
+const GHOST_WORDS: usize = 5;
 
 /// Whether an MPI launcher (Open MPI's `mpirun`, or a PMI one) started this process.
 pub fn launched() -> bool {
@@ -164,10 +167,6 @@ fn check_supported(session: &Session) -> Result<()> {
         (!config.obstacles.is_empty(), "[[obstacle]]"),
         (!config.emitters.is_empty(), "[[emitter]]"),
         (!config.sinks.is_empty(), "[[sink]]"),
-        (
-            session.world.particles().turns(),
-            "rough or spinning discs (friction, rolling_resistance, angular_velocity, spin)",
-        ),
     ];
     for (present, what) in refused {
         if present {
@@ -449,6 +448,9 @@ struct Ranks<'c> {
     /// The signal any rank was stopped by (0: none).
     stop: usize,
     last_stats: StepStats,
+    /// The energy friction has removed since the start, the merged steps' summed in order
+    /// (what one process's world adds up).
+    friction_work: f64,
     /// Bytes this rank sent: ghost states, redistributions, reductions, gathers; steps.
     sent: [u64; 4],
     steps: u64,
@@ -487,6 +489,7 @@ impl<'c> Ranks<'c> {
             stride: 0.0,
             stop: 0,
             last_stats: *whole.stats(),
+            friction_work: whole.friction_work(),
             sent: [0; 4],
             steps: 0,
             redistributions: 0,
@@ -765,10 +768,12 @@ impl<'c> Ranks<'c> {
                 bottom: sums[3],
                 top: sums[4],
             },
+            friction_work: sums[5],
             substeps,
             ..stats
         };
         self.last_stats = merged;
+        self.friction_work += merged.friction_work;
 
         // Redistribute when the owners have drifted too far for the ghost width, else
         // refresh the ghosts.
@@ -806,10 +811,11 @@ impl<'c> Ranks<'c> {
             .send
             .iter()
             .map(|ids| {
-                let mut words = Vec::with_capacity(4 * ids.len());
+                let mut words = Vec::with_capacity(GHOST_WORDS * ids.len());
                 for id in ids {
                     let i = world.index_of(*id).expect("owned discs are held");
-                    words.extend([p.x()[i], p.y()[i], p.vx()[i], p.vy()[i]]);
+                    let spin = p.angular_velocity().get(i).copied().unwrap_or(0.0);
+                    words.extend([p.x()[i], p.y()[i], p.vx()[i], p.vy()[i], spin]);
                 }
                 words
             })
@@ -818,15 +824,15 @@ impl<'c> Ranks<'c> {
         let incoming = exchange(self.comm, &outgoing);
         let mut states = Vec::new();
         for (ids, words) in self.part.recv.iter().zip(&incoming) {
-            if words.len() != 4 * ids.len() {
+            if words.len() != GHOST_WORDS * ids.len() {
                 bail!(
                     "ghost exchange: expected {} states, got {}",
                     ids.len(),
-                    words.len() / 4
+                    words.len() / GHOST_WORDS
                 );
             }
-            for (id, w) in ids.iter().zip(words.chunks_exact(4)) {
-                states.push((*id, [w[0], w[1], w[2], w[3]]));
+            for (id, w) in ids.iter().zip(words.chunks_exact(GHOST_WORDS)) {
+                states.push((*id, [w[0], w[1], w[2], w[3], w[4]]));
             }
         }
         self.part.world.overwrite(&states)?;
@@ -914,6 +920,7 @@ impl<'c> Ranks<'c> {
             stats.pressure = whole.pressure(energy, momentum, stats.virial);
         }
         whole.set_reported_stats(stats);
+        whole.set_reported_friction_work(self.friction_work);
         Ok(Some(whole))
     }
 
@@ -950,7 +957,8 @@ impl<'c> Ranks<'c> {
     }
 }
 
-/// The whole step's contact and collision counts and exact sums (virial, then the four walls), from every
+/// The whole step's contact and collision counts and exact sums (virial, the four walls,
+/// friction), from every
 /// part's, and the bytes this rank sent: the counts and the sums' lanes are integers added by
 /// one reduction, the non-finite parts by another (their sum does not depend on order either).
 fn add_sums(
@@ -958,12 +966,16 @@ fn add_sums(
     counts: [usize; 2],
     sums: &StepSums,
 ) -> ([usize; 2], [f64; SUMS], u64) {
+    // Friction at pairs and obstacles and at the walls as one sum, as one process takes it.
+    let mut friction = sums.friction.clone();
+    friction.merge(&sums.walls.friction);
     let exact = [
         &sums.virial,
         &sums.walls.walls[0],
         &sums.walls.walls[1],
         &sums.walls.walls[2],
         &sums.walls.walls[3],
+        &friction,
     ];
     let lanes_per_sum = ExactSum::WORDS - 1;
     let mut lanes = vec![counts[0] as i64, counts[1] as i64];
@@ -984,7 +996,7 @@ fn add_sums(
     };
     (
         [lanes_all[0] as usize, lanes_all[1] as usize],
-        [0, 1, 2, 3, 4].map(value),
+        [0, 1, 2, 3, 4, 5].map(value),
         bytes,
     )
 }

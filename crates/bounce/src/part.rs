@@ -118,11 +118,15 @@ pub struct DiscRecord {
     pub mass: f64,
     /// Periodic image counts.
     pub image: [i32; 2],
+    /// Angular velocity (0 for a disc that never turned).
+    pub angular_velocity: f64,
+    /// Orientation.
+    pub orientation: f64,
 }
 
 impl DiscRecord {
     /// How many `f64` words [`DiscRecord::to_words`] writes.
-    pub const WORDS: usize = 9;
+    pub const WORDS: usize = 11;
 
     /// The record as words (ids and image counts are exact in an `f64`).
     pub fn to_words(&self) -> [f64; Self::WORDS] {
@@ -136,6 +140,8 @@ impl DiscRecord {
             self.mass,
             f64::from(self.image[0]),
             f64::from(self.image[1]),
+            self.angular_velocity,
+            self.orientation,
         ]
     }
 
@@ -148,6 +154,8 @@ impl DiscRecord {
             radius: w[5],
             mass: w[6],
             image: [w[7] as i32, w[8] as i32],
+            angular_velocity: w[9],
+            orientation: w[10],
         }
     }
 }
@@ -268,10 +276,12 @@ mod tests {
         // Overwriting puts a disc's state back; an unknown id is an error.
         let moved = picked[1].id;
         let mut part = world.part(&picked).unwrap();
-        part.overwrite(&[(moved, [7.5, 7.5, 1.0, 2.0])]).unwrap();
+        part.overwrite(&[(moved, [7.5, 7.5, 1.0, 2.0, 3.0])])
+            .unwrap();
         let disc = part.particle(moved).unwrap();
         assert_eq!((disc.position, disc.velocity), ([7.5, 7.5], [1.0, 2.0]));
-        assert!(part.overwrite(&[(all[4].id, [0.0; 4])]).is_err());
+        assert_eq!(disc.angular_velocity, 0.0, "smooth discs keep no spin");
+        assert!(part.overwrite(&[(all[4].id, [0.0; 5])]).is_err());
         // Repeated ids are refused.
         assert!(world.part(&[all[0], all[0]]).is_err());
         // Regrouping: discs 1 and 3 leave, 0 arrives; one held already is refused.

@@ -21,6 +21,8 @@ impl World {
             radius: p.radius()[i],
             mass: p.per_particle_mass()[i],
             image: p.image()[i],
+            angular_velocity: p.angular_velocity().get(i).copied().unwrap_or(0.0),
+            orientation: p.orientation().get(i).copied().unwrap_or(0.0),
         }
     }
 
@@ -31,6 +33,9 @@ impl World {
     pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
         let mut part = World::new(self.config().clone())?;
         part.adopt_clock(self);
+        if self.particles.turning {
+            part.particles.start_turning();
+        }
         part.regroup(|_| true, records)?;
         Ok(part)
     }
@@ -56,7 +61,12 @@ impl World {
             // States come from a running world: a disc an overlap push left a hair
             // outside a periodic box is wrapped at the next integration, so only the values
             // themselves are checked, not the box.
-            let values = [r.position, r.velocity, [r.radius, r.mass]];
+            let values = [
+                r.position,
+                r.velocity,
+                [r.radius, r.mass],
+                [r.angular_velocity, r.orientation],
+            ];
             if !(values.iter().flatten().all(|v| v.is_finite()) && r.radius > 0.0) {
                 return Err(WorldError::Inconsistent(format!(
                     "disc {}: non-finite values or a radius <= 0 in {r:?}",
@@ -88,10 +98,11 @@ impl World {
         Ok(())
     }
 
-    /// Sets the position and velocity `[x, y, vx, vy]` of each disc named (a part's ghosts,
-    /// from their owners; their image counts are left as they are). Every id must be here;
-    /// otherwise nothing changes.
-    pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 4])]) -> Result<(), WorldError> {
+    /// Sets the position, velocity and angular velocity `[x, y, vx, vy, ω]` of each disc
+    /// named (a part's ghosts, from their owners; their image counts and orientations are
+    /// left as they are, and ω where discs do not turn). Every id must be here; otherwise
+    /// nothing changes.
+    pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 5])]) -> Result<(), WorldError> {
         let mut at = Vec::with_capacity(states.len());
         for (id, _) in states {
             let i = self.index_of(*id).ok_or_else(|| {
@@ -107,6 +118,13 @@ impl World {
     /// its parts, reports the step's statistics merged from theirs.
     pub fn set_reported_stats(&mut self, stats: StepStats) {
         self.set_stats(stats);
+    }
+
+    /// Reports `friction_work` as the energy friction has removed since the start: a
+    /// distributed run's whole world reports the sum of the merged steps' (each part's own
+    /// counts only its share).
+    pub fn set_reported_friction_work(&mut self, friction_work: f64) {
+        self.friction_work = friction_work;
     }
 }
 
@@ -190,6 +208,10 @@ impl World {
         p.radius.push(r.radius);
         p.mass.push(r.mass);
         p.image.push(r.image);
+        if p.turning {
+            p.omega.push(r.angular_velocity);
+            p.theta.push(r.orientation);
+        }
     }
 
     /// After discs were pushed: ids, broadphase and measurements brought up to date (the
@@ -205,11 +227,15 @@ impl World {
         self.removed = self.next_id - self.particles.len() as u32;
     }
 
-    /// Writes positions and velocities at storage indices `at`.
-    pub(crate) fn write_motion(&mut self, at: &[usize], states: &[(ParticleId, [f64; 4])]) {
+    /// Writes positions, velocities and (where discs turn) angular velocities at storage
+    /// indices `at`.
+    pub(crate) fn write_motion(&mut self, at: &[usize], states: &[(ParticleId, [f64; 5])]) {
         let p = &mut self.particles;
-        for (&i, (_, [x, y, vx, vy])) in at.iter().zip(states) {
+        for (&i, (_, [x, y, vx, vy, w])) in at.iter().zip(states) {
             (p.x[i], p.y[i], p.vx[i], p.vy[i]) = (*x, *y, *vx, *vy);
+            if p.turning {
+                p.omega[i] = *w;
+            }
         }
     }
 
