@@ -1,5 +1,6 @@
-//! The engines under test, each set up for the closest physics to bounce's: discs with zero
-//! friction, the scene's restitution, sleeping off, restitution threshold 0, fixed walls.
+//! The engines under test, each set up for the closest physics to bounce's: discs with the
+//! scene's friction (zero but in `pile-settled-friction`) and restitution, sleeping off,
+//! restitution threshold 0, fixed walls.
 
 use std::time::Instant;
 
@@ -96,6 +97,7 @@ impl BounceSim {
             coefficient_of_restitution: setup.restitution,
             substeps: setup.substeps,
             obstacles: std::mem::take(&mut setup.obstacles),
+            friction: setup.friction,
             ..bounce::Config::default()
         };
         let mut world = bounce::World::new(config)?;
@@ -130,7 +132,11 @@ impl Sim for BounceSim {
     }
 
     fn note(&self) -> String {
-        "seed model, f64".into()
+        if self.world.config().is_rough() {
+            "seed model with rough discs (friction 0.5), f64".into()
+        } else {
+            "seed model, f64".into()
+        }
     }
 
     fn stages(&self) -> Option<([f64; 5], usize, usize)> {
@@ -158,7 +164,7 @@ impl RapierSim {
         };
         world.integration_parameters.dt = setup.dt as f32;
         world.integration_parameters.num_solver_iterations = setup.substeps as usize;
-        let e = setup.restitution as f32;
+        let (e, mu) = (setup.restitution as f32, setup.friction as f32);
         for d in &setup.discs {
             let body = RigidBodyBuilder::dynamic()
                 .translation(Vector::new(d.position[0] as f32, d.position[1] as f32))
@@ -167,7 +173,7 @@ impl RapierSim {
                 .build();
             let handle = world.bodies.insert(body);
             let collider = ColliderBuilder::ball(d.radius as f32)
-                .friction(0.0)
+                .friction(mu)
                 .restitution(e)
                 .restitution_combine_rule(CoefficientCombineRule::Max)
                 .friction_combine_rule(CoefficientCombineRule::Min)
@@ -189,7 +195,7 @@ impl RapierSim {
         ] {
             let wall = ColliderBuilder::cuboid(hx, hy)
                 .translation(Vector::new(cx, cy))
-                .friction(0.0)
+                .friction(mu)
                 .restitution(e)
                 .build();
             world.colliders.insert(wall);
@@ -234,7 +240,7 @@ impl Box2dSim {
             .map_err(|e| anyhow!("{e:?}"))?;
         let mut world = foundation.create_world(def).map_err(|e| anyhow!("{e:?}"))?;
         let material = SurfaceMaterial::new()
-            .with_friction(0.0)
+            .with_friction(setup.friction as f32)
             .and_then(|m| m.with_restitution(setup.restitution as f32))
             .map_err(|e| anyhow!("{e:?}"))?;
         let shape = ShapeDef::builder()

@@ -171,7 +171,7 @@ fn one(engine: &str, scene: &str, quick: bool, cache: &Path) -> Result<()> {
         println!("skipped\tpeak={:.1}\tnote=a step took over 2 s", peak_mb());
         return Ok(());
     }
-    let warm_up = if scene.kind == scenes::Kind::SettledPile {
+    let warm_up = if scene.is_pile() {
         PILE_WARM_UP
     } else {
         WARM_UP
@@ -429,11 +429,7 @@ fn print_stages(rows: &[Row], machine: &Machine) {
         let (stages, share, contacts) = r.stages.expect("filtered");
         let scene = SceneKind::parse(&r.scene).expect("a known scene");
         let substeps = scene.substeps() as f64;
-        let candidates = if scene.kind == scenes::Kind::SettledPile {
-            4.5
-        } else {
-            1.5
-        };
+        let candidates = if scene.is_pile() { 4.5 } else { 1.5 };
         let bytes = stage_bytes(candidates, contacts, share / substeps);
         let names = [
             "integrate",

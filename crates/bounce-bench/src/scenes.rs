@@ -14,6 +14,8 @@ pub enum Kind {
     Gas,
     /// The gas's start under gravity, e = 0.7, 4 substeps, settled before timing.
     SettledPile,
+    /// The settled pile's start with friction 0.5 everywhere (bounce's rough discs).
+    SettledFrictionPile,
     /// Radius 0.5 at packing 0.7 (a melting lattice), e = 1.
     Dense,
     /// Radii uniform in [0.05, 5] at packing 0.3, e = 1.
@@ -46,6 +48,8 @@ pub struct Setup {
     pub substeps: u32,
     /// Obstacles (bounce only).
     pub obstacles: Vec<Obstacle>,
+    /// Coulomb friction of every contact (0: bounce's smooth discs, the seed's).
+    pub friction: f64,
 }
 
 const fn scene(kind: Kind, n: usize, peers: bool) -> SceneKind {
@@ -53,7 +57,7 @@ const fn scene(kind: Kind, n: usize, peers: bool) -> SceneKind {
 }
 
 impl SceneKind {
-    pub const ALL: [SceneKind; 13] = [
+    pub const ALL: [SceneKind; 14] = [
         scene(Kind::Gas, 10_000, true),
         scene(Kind::Gas, 100_000, true),
         scene(Kind::Gas, 1_000_000, true),
@@ -61,6 +65,7 @@ impl SceneKind {
         scene(Kind::Gas, 10_000_000, false),
         scene(Kind::SettledPile, 100_000, true),
         scene(Kind::SettledPile, 1_000_000, false),
+        scene(Kind::SettledFrictionPile, 100_000, true),
         scene(Kind::Dense, 100_000, true),
         scene(Kind::Poly, 100_000, true),
         scene(Kind::Poly, 1_000_000, false),
@@ -73,6 +78,7 @@ impl SceneKind {
         let kind = match self.kind {
             Kind::Gas => "gas",
             Kind::SettledPile => "pile-settled",
+            Kind::SettledFrictionPile => "pile-settled-friction",
             Kind::Dense => "dense-0.7",
             Kind::Poly => "poly-0.05-5",
             Kind::Fast => "fast-gas",
@@ -107,7 +113,7 @@ impl SceneKind {
     /// The scene's physics, without discs.
     fn physics(&self) -> ([f64; 2], f64, u32) {
         let scene = match self.kind {
-            Kind::SettledPile => Bench::Pile,
+            Kind::SettledPile | Kind::SettledFrictionPile => Bench::Pile,
             _ => Bench::Gas,
         };
         scene.physics()
@@ -119,7 +125,9 @@ impl SceneKind {
         let n = self.n;
         let (gravity, restitution, substeps) = self.physics();
         let (config, mut discs) = match self.kind {
-            Kind::Gas | Kind::SettledPile | Kind::Pegs => Bench::Gas.build(n)?,
+            Kind::Gas | Kind::SettledPile | Kind::SettledFrictionPile | Kind::Pegs => {
+                Bench::Gas.build(n)?
+            }
             Kind::Fast => Bench::Fast.build(n)?,
             Kind::Poly => Bench::Poly.build(n)?,
             Kind::Dense => {
@@ -140,7 +148,7 @@ impl SceneKind {
                 (config, discs)
             }
         };
-        if self.kind == Kind::SettledPile {
+        if self.is_pile() {
             discs = read_settled(&self.cache_file(cache), n)?;
         }
         let mut obstacles = Vec::new();
@@ -182,11 +190,31 @@ impl SceneKind {
             dt: Bench::DT,
             substeps,
             obstacles,
+            friction: if self.kind == Kind::SettledFrictionPile {
+                0.5
+            } else {
+                0.0
+            },
         })
     }
 
+    /// Whether it starts from a settled pile.
+    pub fn is_pile(&self) -> bool {
+        matches!(self.kind, Kind::SettledPile | Kind::SettledFrictionPile)
+    }
+
+    /// The settled pile's file: the same one with and without friction.
     fn cache_file(&self, cache: &Path) -> std::path::PathBuf {
-        cache.join(format!("{}.f64", self.name()))
+        let pile = SceneKind {
+            kind: Kind::SettledPile,
+            ..*self
+        };
+        let name = if self.is_pile() {
+            pile.name()
+        } else {
+            self.name()
+        };
+        cache.join(format!("{name}.f64"))
     }
 
     /// Settles a pile with bounce (2 threads) and stores the positions and radii in `cache`
@@ -195,7 +223,7 @@ impl SceneKind {
     /// down would take thousands of steps at a million discs) and settles for 300 steps
     /// under gravity, e = 0.7, 4 substeps.
     pub fn settle(&self, cache: &Path) -> Result<()> {
-        if self.kind != Kind::SettledPile || self.cache_file(cache).exists() {
+        if !self.is_pile() || self.cache_file(cache).exists() {
             return Ok(());
         }
         let (config, _) = Bench::Pile.build(self.n)?;
@@ -215,13 +243,13 @@ impl SceneKind {
             .add_particles(discs)
             .map_err(|(i, e)| anyhow::anyhow!("disc {i}: {e}"))?;
         world.set_threads(2)?;
-        eprintln!("settling {} ...", self.name());
+        eprintln!("settling pile-settled-{} ...", self.n);
         for _ in 0..300 {
             world.step(Bench::DT)?;
         }
         eprintln!(
-            "settled {} for 300 steps: kinetic energy {:.3e}, largest overlap {:.3}",
-            self.name(),
+            "settled the pile of {} for 300 steps: kinetic energy {:.3e}, largest overlap {:.3}",
+            self.n,
             world.stats().kinetic_energy,
             world.stats().max_overlap
         );

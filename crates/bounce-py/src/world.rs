@@ -521,8 +521,9 @@ impl World {
         Ok(d)
     }
 
-    /// A 64-bit hash of the state (ids, positions, velocities, radii bit for bit, and the
-    /// step count): the one ``bounce run`` prints.
+    /// A 64-bit hash of the state (ids, positions, velocities, radii bit for bit, angular
+    /// velocities and orientations where discs turn, and the step count): the one
+    /// ``bounce run`` prints.
     fn state_hash(&self) -> u64 {
         self.get().state_hash()
     }
