@@ -111,6 +111,15 @@ fn same_bits_for_1_to_4_ranks(scenario: &str, extra: &[&str], what: &str) -> (Ve
     last.unwrap()
 }
 
+/// A pile of 4,000 discs 300 high with one substep: domains with real ghost layers.
+const TALL_PILE: [&str; 5] = [
+    "time.steps=300",
+    "time.substeps=1",
+    "gas.count=4000",
+    "world.max=[80.0, 300.0]",
+    "gas.region={ min = [0.0, 20.0], max = [80.0, 300.0] }",
+];
+
 /// `--set VALUE` for each value.
 fn sets(values: &[&'static str]) -> Vec<&'static str> {
     values.iter().flat_map(|v| ["--set", v]).collect()
@@ -171,17 +180,7 @@ fn a_settling_pile_gives_the_same_bits_on_any_number_of_ranks() {
     // with one substep whose domains have real ghost layers, through the fall and the
     // settling; and with three solver passes (contacts lowest first, walls as contacts).
     same_bits_for_1_to_4_ranks("pile.toml", &sets(&["time.steps=300"]), "pile");
-    let (owned, ghosts) = same_bits_for_1_to_4_ranks(
-        "pile.toml",
-        &sets(&[
-            "time.steps=300",
-            "time.substeps=1",
-            "gas.count=4000",
-            "world.max=[80.0, 300.0]",
-            "gas.region={ min = [0.0, 20.0], max = [80.0, 300.0] }",
-        ]),
-        "tall pile",
-    );
+    let (owned, ghosts) = same_bits_for_1_to_4_ranks("pile.toml", &sets(&TALL_PILE), "tall pile");
     assert_holds_layers(&owned, &ghosts, 4000);
     same_bits_for_1_to_4_ranks(
         "pile.toml",
@@ -199,18 +198,14 @@ fn rough_discs_give_the_same_bits_on_any_number_of_ranks() {
     // A tall pile of rough discs (friction at the discs and the walls, rolling resistance)
     // with real ghost layers, and a spinning periodic gas: the ghosts' spins, the records'
     // orientations and the friction work cross the ranks.
+    let rough = [
+        "world.friction=0.5",
+        "world.rolling_resistance=0.05",
+        "output.gsd_every=50",
+    ];
     let (owned, ghosts) = same_bits_for_1_to_4_ranks(
         "pile.toml",
-        &sets(&[
-            "time.steps=300",
-            "time.substeps=1",
-            "gas.count=4000",
-            "world.max=[80.0, 300.0]",
-            "gas.region={ min = [0.0, 20.0], max = [80.0, 300.0] }",
-            "world.friction=0.5",
-            "world.rolling_resistance=0.05",
-            "output.gsd_every=50",
-        ]),
+        &sets(&[&TALL_PILE[..], &rough].concat()),
         "rough pile",
     );
     assert_holds_layers(&owned, &ghosts, 4000);

@@ -30,6 +30,20 @@ gsd_every = 100
 plots = false
 "#;
 
+/// `bounce run` of `text` into `out` in `s`: its `stats.csv`.
+fn run(s: &Scratch, text: &str) -> String {
+    let scenario = s.scenario("scenario.toml", text);
+    let (code, _, err) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(s.path("out")),
+    );
+    assert_eq!(code, 0, "{err}");
+    std::fs::read_to_string(s.path("out/stats.csv")).unwrap()
+}
+
 /// The rows of a `stats.csv`, each column by name.
 fn rows(text: &str) -> Vec<std::collections::HashMap<String, f64>> {
     let mut lines = text.lines();
@@ -48,16 +62,7 @@ fn rows(text: &str) -> Vec<std::collections::HashMap<String, f64>> {
 #[test]
 fn stats_balance_the_energy_and_the_trajectory_holds_the_rotation() {
     let s = Scratch::new();
-    let scenario = s.scenario("rough.toml", ROUGH);
-    let (code, _, err) = output(
-        bounce()
-            .arg("run")
-            .arg(&scenario)
-            .arg("--out")
-            .arg(s.path("out")),
-    );
-    assert_eq!(code, 0, "{err}");
-    let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    let text = run(&s, ROUGH);
     assert!(
         text.lines()
             .next()
@@ -128,16 +133,7 @@ fn a_smooth_run_has_no_rotation_columns_or_chunks() {
         .replace("friction = 0.3\n", "")
         .replace("rolling_resistance = 0.02\n", "")
         .replace("spin = 4.0\n", "");
-    let scenario = s.scenario("smooth.toml", &smooth);
-    let (code, _, err) = output(
-        bounce()
-            .arg("run")
-            .arg(&scenario)
-            .arg("--out")
-            .arg(s.path("out")),
-    );
-    assert_eq!(code, 0, "{err}");
-    let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    let text = run(&s, &smooth);
     assert!(!text.lines().next().unwrap().contains("rotational_energy"));
     let chunks = gsd_chunks(&s.path("out/trajectory.gsd"));
     assert!(chunks.iter().all(|c| !c.name.contains("angmom")));

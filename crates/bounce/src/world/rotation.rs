@@ -70,14 +70,10 @@ impl World {
         if !p.turning {
             return 0.0;
         }
-        let law = Law::new(&self.config);
-        let k = self.config.inertia_factor;
+        let inertia = self.inertia();
         self.in_id_order()
             .into_iter()
-            .map(|(_, i)| {
-                let m = law.mass(p.radius[i], p.mass[i]);
-                0.5 * k * m * p.radius[i] * p.radius[i] * p.omega[i] * p.omega[i]
-            })
+            .map(|(_, i)| 0.5 * inertia(i) * p.omega[i] * p.omega[i])
             .sum()
     }
 
@@ -87,18 +83,21 @@ impl World {
     pub fn angular_momentum(&self) -> f64 {
         let p = &self.particles;
         let law = Law::new(&self.config);
-        let k = self.config.inertia_factor;
+        let inertia = self.inertia();
         self.in_id_order()
             .into_iter()
             .map(|(_, i)| {
                 let m = law.mass(p.radius[i], p.mass[i]);
                 let orbital = m * (p.x[i] * p.vy[i] - p.y[i] * p.vx[i]);
-                let spin = p
-                    .omega
-                    .get(i)
-                    .map_or(0.0, |w| k * m * p.radius[i] * p.radius[i] * w);
-                orbital + spin
+                orbital + p.omega.get(i).map_or(0.0, |w| inertia(i) * w)
             })
             .sum()
+    }
+
+    /// Each disc's moment of inertia `k m r²`, by storage index.
+    fn inertia(&self) -> impl Fn(usize) -> f64 + '_ {
+        let (p, law) = (&self.particles, Law::new(&self.config));
+        let k = self.config.inertia_factor;
+        move |i| k * law.mass(p.radius[i], p.mass[i]) * p.radius[i] * p.radius[i]
     }
 }
