@@ -10,7 +10,7 @@
 //!   are placed around the world's box centre (the origin in an open world), and the file's
 //!   box must have the world's size (a triclinic box is refused).
 //! - **CSV**: a header naming the columns, in any order: `x`, `y` and `radius` required,
-//!   `vx`, `vy` (default 0), `mass` and `type` optional; one disc a row.
+//!   `vx`, `vy`, `angular_velocity` (default 0), `mass` and `type` optional; one disc a row.
 //!
 //! Both are read in one pass, O(N): a million discs in about a second. Every value is checked
 //! (finite numbers, a radius and mass > 0); the world then admits the discs as it does any
@@ -312,7 +312,16 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
 }
 
 /// The CSV columns bounce reads.
-const CSV_COLUMNS: [&str; 7] = ["x", "y", "vx", "vy", "radius", "mass", "type"];
+const CSV_COLUMNS: [&str; 8] = [
+    "x",
+    "y",
+    "vx",
+    "vy",
+    "radius",
+    "mass",
+    "type",
+    "angular_velocity",
+];
 
 fn read_csv(path: &Path) -> Result<FileDiscs, String> {
     let mut reader = csv::ReaderBuilder::new()
@@ -368,7 +377,7 @@ fn read_csv(path: &Path) -> Result<FileDiscs, String> {
                 None | Some("") => None,
                 Some(_) => Some(number(5, None)?),
             },
-            angular_velocity: 0.0,
+            angular_velocity: number(7, Some(0.0))?,
             orientation: 0.0,
         };
         disc.validate_values()

@@ -55,6 +55,29 @@ fn a_csv_table_gives_each_disc_its_row_with_types_and_masses() {
 }
 
 #[test]
+fn a_csv_table_can_give_each_disc_its_spin() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("spin.csv"),
+        "x,y,radius,angular_velocity\n5,5,1,2.5\n10,5,1,\n",
+    )
+    .unwrap();
+    let s = session_in(dir.path(), &scenario(WALLS, "spin.csv", "")).unwrap();
+    assert_eq!(s.world.angular_velocities(), [2.5, 0.0]);
+    assert!(s.world.particles().turns());
+    std::fs::write(
+        dir.path().join("bad.csv"),
+        "x,y,radius,angular_velocity\n5,5,1,fast\n",
+    )
+    .unwrap();
+    let error = session_in(dir.path(), &scenario(WALLS, "bad.csv", "")).unwrap_err();
+    assert!(
+        error.contains("line 2: angular_velocity = \"fast\""),
+        "{error}"
+    );
+}
+
+#[test]
 fn a_bad_csv_is_refused_naming_the_file_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
     for (csv, expect) in [
