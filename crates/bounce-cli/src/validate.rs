@@ -17,6 +17,8 @@
 //!    it; `approaching_only` leaves a separating pair's velocities alone.
 //! 6. Resting contacts: a disc resting on the floor (g = 10, dt = 0.01) moves at up to
 //!    `|g| dt` under the seed's bounce and is still under `resting_contacts = "rest"`.
+//! 7. Rough discs: a disc on a 20° incline rolls without slipping at `(2/3) g sin θ`
+//!    (friction 0.5) and slides at `g (sin θ − μ cos θ)` (friction 0.05), within 1%.
 //!
 //! It writes `validate.png` (Z against packing with Henderson's curve) and states its runtime.
 
@@ -275,6 +277,43 @@ fn resting_contacts() -> Result<Check> {
     })
 }
 
+/// A rough disc (radius 0.5) released on a 20° incline under gravity 10 for 1.5 time units:
+/// its acceleration along the slope against rolling, `(2/3) g sin θ` (friction 0.5), and
+/// sliding, `g (sin θ − μ cos θ)` (friction 0.05 < tan θ / 3).
+fn rough_incline() -> Result<Check> {
+    let (g, angle) = (10.0, 20f64.to_radians());
+    let (c, s) = (angle.cos(), angle.sin());
+    let acceleration = |friction: f64| -> Result<f64> {
+        let slope = bounce::Obstacle::segment([-40.0 * c, 40.0 * s], [40.0 * c, -40.0 * s]);
+        let config = Config {
+            gravity: [0.0, -g],
+            friction,
+            substeps: 4,
+            obstacles: vec![slope],
+            ..Config::default()
+        };
+        let start = [-20.0 * c + 0.5 * s, 20.0 * s + 0.5 * c];
+        let mut world = World::new(config)?;
+        world.add_particle(Particle::new(start, [0.0, 0.0], 0.5))?;
+        let (dt, steps) = (0.001, 1500);
+        for _ in 0..steps {
+            world.step(dt)?;
+        }
+        let p = world.particles();
+        let travelled = (p.x()[0] - start[0]) * c - (p.y()[0] - start[1]) * s;
+        let t = dt * steps as f64;
+        Ok(2.0 * travelled / (t * t))
+    };
+    let (rolling, sliding) = (acceleration(0.5)?, acceleration(0.05)?);
+    let (roll, slide) = (2.0 / 3.0 * g * s, g * (s - 0.05 * c));
+    Ok(Check {
+        name: "rough discs (a disc down a 20° incline, g = 10)".into(),
+        measured: format!("acceleration rolling {rolling:.4}, sliding {sliding:.4}"),
+        expected: format!("(2/3) g sin θ = {roll:.4}, g (sin θ − μ cos θ) = {slide:.4}, ± 1%"),
+        pass: (rolling / roll - 1.0).abs() < 0.01 && (sliding / slide - 1.0).abs() < 0.01,
+    })
+}
+
 /// Runs every check, prints the report and writes `validate.png` into `out`. Returns whether
 /// all passed.
 pub fn validate(quick: bool, out: &Path) -> Result<bool> {
@@ -307,6 +346,7 @@ pub fn validate(quick: bool, out: &Path) -> Result<bool> {
     checks.push(equipartition(size)?);
     checks.push(model_options());
     checks.push(resting_contacts()?);
+    checks.push(rough_incline()?);
     for c in &checks {
         println!(
             "{}  {}: {} (expected {})",
