@@ -43,6 +43,7 @@ mod config;
 mod contacts;
 pub use contacts::{order_block_start, order_cell_width};
 mod context;
+pub mod event;
 mod geometry;
 mod integrate;
 mod lanes;
