@@ -1,6 +1,7 @@
-//! The event-driven engine's core (`bounce::event`): a collision at the hand-computed time,
-//! energy and momentum kept by elastic hard discs over a million collisions, and the
-//! hard-disc equation of state against Monte Carlo.
+//! The event-driven engine's core (`bounce::event`): a collision and a wall hit at the
+//! hand-computed time, energy and momentum kept by elastic hard discs over a million
+//! collisions, the hard-disc equation of state against Monte Carlo, and between walls the
+//! walls' pressure equal to the virial's.
 
 use bounce::event::{EventDriven, EventError};
 use bounce::scene::{self, Gas, Speeds};
@@ -57,14 +58,17 @@ fn two_discs_meet_at_the_hand_computed_time_and_exchange_velocities() {
 #[test]
 fn what_it_does_not_do_yet_is_refused() {
     let disc = [Particle::new([5.0, 5.0], [0.0, 0.0], 0.5)];
+    assert!(matches!(
+        EventDriven::new(&Config::default(), &disc),
+        Err(EventError::Unsupported(_))
+    ));
     let walls = Config {
         boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
         ..Config::default()
     };
-    assert!(matches!(
-        EventDriven::new(&walls, &disc),
-        Err(EventError::Unsupported(_))
-    ));
+    let beyond = [Particle::new([0.2, 5.0], [0.0, 0.0], 0.5)];
+    let error = EventDriven::new(&walls, &beyond).unwrap_err();
+    assert!(error.to_string().contains("beyond the walls"), "{error}");
     let gravity = Config {
         gravity: [0.0, -1.0],
         ..periodic(10.0)
@@ -78,11 +82,82 @@ fn what_it_does_not_do_yet_is_refused() {
     assert!(error.to_string().contains("overlaps"), "{error}");
 }
 
+#[test]
+fn a_disc_meets_a_wall_at_the_hand_computed_time_and_bounces_with_its_restitution() {
+    // Radius 0.5 at x = 3 moving left at 2 in walls [0, 10] with restitution 0.5: its centre
+    // is 0.5 from the wall at t = 1.25, and it leaves at 1; the wall takes m |Δv| = 0.5 · 3.
+    let walls = Config {
+        boundary: Boundary::Walls {
+            min: [0.0, 0.0],
+            max: [10.0, 10.0],
+            wall_restitution: Some(0.5),
+        },
+        ..Config::default()
+    };
+    let disc = [Particle::new([3.0, 5.0], [-2.0, 0.0], 0.5)];
+    let mut world = EventDriven::new(&walls, &disc).unwrap();
+    assert_eq!(world.advance(1.249_999).wall_impulse, [0.0; 4]);
+    let hit = world.advance(0.000_002);
+    assert_eq!(hit.wall_impulse, [1.5, 0.0, 0.0, 0.0]);
+    let after = world.particles()[0];
+    assert_eq!(after.velocity, [1.0, 0.0]);
+    assert!(
+        (after.position[0] - (0.5 + 1e-6)).abs() < 1e-12,
+        "{after:?}"
+    );
+}
+
+#[test]
+fn between_walls_the_walls_feel_the_pressure_the_virial_gives() {
+    // An elastic gas of 2,000 discs at packing 0.3 between walls: the momentum the walls take
+    // per time and per length of the line the centres stop at, against (N kT + W) / A with A
+    // the area the centres move in, (L − d)².
+    let side = (2000.0 * std::f64::consts::PI * 0.25 / 0.3f64).sqrt();
+    let max = [side, side];
+    let (walls, discs) = gas_in(
+        Config {
+            boundary: Boundary::walls([0.0, 0.0], max),
+            ..Config::default()
+        },
+        2000,
+    );
+    let mut world = EventDriven::new(&walls, &discs).unwrap();
+    world.advance(20.0);
+    let kt = world.kinetic_energy() / 2000.0;
+    let (mut virial, mut impulse) = (0.0, 0.0);
+    let span = 200.0;
+    for _ in 0..200 {
+        let seen = world.advance(span / 200.0);
+        virial += seen.virial;
+        impulse += seen.wall_impulse.iter().sum::<f64>();
+    }
+    let inner = max[0] - 1.0;
+    let from_walls = impulse / (span * 4.0 * inner);
+    let from_virial = (2000.0 * kt + 0.5 * virial / span) / (inner * inner);
+    assert!(
+        (from_walls / from_virial - 1.0).abs() < 0.01,
+        "walls {from_walls} against the virial's {from_virial}"
+    );
+    // Energy is kept (e = 1) and every centre stays a radius inside.
+    assert!((world.kinetic_energy() / (2000.0 * kt) - 1.0).abs() < 1e-12);
+    for d in world.particles() {
+        assert!(
+            d.position
+                .iter()
+                .all(|&x| (0.5 - 1e-9..=max[0] - 0.5 + 1e-9).contains(&x))
+        );
+    }
+}
+
 /// `count` equal discs of radius 0.5 at `packing` in a periodic box: a triangular lattice
 /// with thermal velocities (kT = 1), as the time-stepped tests start.
 fn gas(count: usize, packing: f64) -> (Config, Vec<Particle>) {
     let side = (count as f64 * std::f64::consts::PI * 0.25 / packing).sqrt();
-    let config = periodic(side);
+    gas_in(periodic(side), count)
+}
+
+/// `count` discs of radius 0.5 on a lattice filling `config`'s box, kT = 1.
+fn gas_in(config: Config, count: usize) -> (Config, Vec<Particle>) {
     let discs = scene::packed_gas(
         &Gas {
             count,

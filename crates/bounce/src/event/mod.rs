@@ -12,8 +12,10 @@
 //! comes up (lazy invalidation). Ties are broken by the discs' ids, so a run is
 //! deterministic.
 //!
-//! **So far:** a periodic box without gravity or obstacles ([`EventDriven::new`] refuses
-//! the rest). The scenario's `method`, the front ends and the rest of the physics follow.
+//! **So far:** a periodic box or walls (a disc meets a wall when its centre is its radius
+//! from it, and leaves with its normal velocity reversed and scaled by the walls'
+//! restitution), without gravity or obstacles ([`EventDriven::new`] refuses the rest). The
+//! scenario's `method`, the front ends and the rest of the physics follow.
 
 mod predict;
 
@@ -39,7 +41,8 @@ pub enum EventError {
 }
 
 /// A predicted event: a collision of discs `a < b`, or disc `a` crossing the side `side` of
-/// its cell (0 +x, 1 −x, 2 +y, 3 −y), with the discs' event counts when it was predicted.
+/// its cell or meeting that wall (0 +x, 1 −x, 2 +y, 3 −y), with the discs' event counts
+/// when it was predicted.
 #[derive(Clone, Copy, Debug)]
 struct Event {
     time: f64,
@@ -51,6 +54,8 @@ struct Event {
 
 /// `b` of a crossing.
 const CROSSING: u32 = u32::MAX;
+/// `b` of a wall.
+const WALL: u32 = u32::MAX - 1;
 
 impl Event {
     fn key(&self) -> (f64, u32, u32, u8) {
@@ -91,6 +96,8 @@ pub struct Observed {
     /// `Σ r_ij · Δp_ij` over them (the pair's impulse on the disc `r_ij` points from): the
     /// collision virial is half of it over the interval.
     pub virial: f64,
+    /// The momentum the walls took (`Σ m |Δv|`), left, right, bottom, top.
+    pub wall_impulse: [f64; 4],
 }
 
 /// A world of hard discs advanced event by event (see the module docs).
@@ -99,6 +106,8 @@ pub struct EventDriven {
     law: Law,
     size: [f64; 2],
     min: [f64; 2],
+    /// The walls' restitution; `None` in a periodic box.
+    walls: Option<f64>,
     /// Per disc, at its own `time`: centre, velocity; radius, mass.
     x: Vec<[f64; 2]>,
     v: Vec<[f64; 2]>,
@@ -118,8 +127,10 @@ impl EventDriven {
     /// The discs `discs` (ids in order) under `config`: a periodic box without gravity or
     /// obstacles; discs must not overlap.
     pub fn new(config: &Config, discs: &[Particle]) -> Result<EventDriven, EventError> {
-        let Boundary::Periodic { min, max } = config.boundary else {
-            return Err(EventError::Unsupported("walls or an open world"));
+        let (min, max, walls) = match config.boundary {
+            Boundary::Periodic { min, max } => (min, max, None),
+            Boundary::Walls { min, max, .. } => (min, max, Some(config.wall_restitution())),
+            Boundary::Open => return Err(EventError::Unsupported("an open world")),
         };
         if config.gravity != [0.0, 0.0] {
             return Err(EventError::Unsupported("gravity"));
@@ -144,6 +155,7 @@ impl EventDriven {
             law,
             size,
             min,
+            walls,
             x: Vec::new(),
             v: Vec::new(),
             radius: Vec::new(),
@@ -161,6 +173,11 @@ impl EventDriven {
             d.validate_values()
                 .map_err(|e| EventError::Disc(k, e.to_string()))?;
             let p = world.wrap(d.position);
+            if world.walls.is_some()
+                && (0..2).any(|a| p[a] - d.radius < min[a] || p[a] + d.radius > max[a])
+            {
+                return Err(EventError::Disc(k, "reaches beyond the walls".into()));
+            }
             let cell = [0, 1].map(|a| (((p[a] - min[a]) / width[a]) as usize).min(dims[a] - 1));
             world.x.push(p);
             world.v.push(d.velocity);
@@ -202,13 +219,16 @@ impl EventDriven {
             }
             self.calendar.pop();
             let (a, b) = (event.a as usize, event.b);
+            let pair = b < WALL;
             if self.count[a] != event.counts[0]
-                || (b != CROSSING && self.count[b as usize] != event.counts[1])
+                || (pair && self.count[b as usize] != event.counts[1])
             {
                 continue;
             }
             if b == CROSSING {
                 self.cross(a, event.side, event.time);
+            } else if b == WALL {
+                self.bounce(a, event.side, event.time, &mut observed);
             } else {
                 self.collide(a, b as usize, event.time, &mut observed);
             }
@@ -246,8 +266,11 @@ impl EventDriven {
         self.size[0] * self.size[1]
     }
 
-    /// `p` wrapped into the box.
+    /// `p` wrapped into a periodic box (as it is between walls).
     fn wrap(&self, p: [f64; 2]) -> [f64; 2] {
+        if self.walls.is_some() {
+            return p;
+        }
         [0, 1].map(|a| self.min[a] + (p[a] - self.min[a]).rem_euclid(self.size[a]))
     }
 
@@ -268,7 +291,10 @@ impl EventDriven {
     fn image(&self, p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
         [0, 1].map(|a| {
             let d = p[a] - q[a];
-            d - self.size[a] * (d / self.size[a]).round()
+            match self.walls {
+                Some(_) => d,
+                None => d - self.size[a] * (d / self.size[a]).round(),
+            }
         })
     }
 
@@ -277,8 +303,15 @@ impl EventDriven {
         let [cx, cy] = self.cell[i];
         let [nx, ny] = self.dims;
         let mut out = Vec::new();
+        let walled = self.walls.is_some();
         for dy in [ny - 1, 0, 1] {
             for dx in [nx - 1, 0, 1] {
+                // Between walls the grid does not wrap: no cell beyond an edge.
+                let beyond =
+                    |c: usize, d: usize, n: usize| (d == n - 1 && c == 0) || (d == 1 && c + 1 == n);
+                if walled && (beyond(cx, dx, nx) || beyond(cy, dy, ny)) {
+                    continue;
+                }
                 let cell = ((cy + dy) % ny) * nx + (cx + dx) % nx;
                 out.extend(self.cells[cell].iter().filter(|&&j| j as usize != i));
             }
@@ -305,6 +338,27 @@ impl EventDriven {
                     b: b as u32,
                     side: 0,
                     counts: [self.count[a], self.count[b]],
+                });
+            }
+        }
+        if self.walls.is_some() {
+            // The wall it moves to along each axis: where its centre is its radius from it.
+            for a in 0..2 {
+                let (x, v, r) = (self.x[i][a], self.v[i][a], self.radius[i]);
+                let (lo, hi) = (self.min[a] + r, self.min[a] + self.size[a] - r);
+                let (dt, side) = if v > 0.0 {
+                    ((hi - x) / v, 2 * a as u8)
+                } else if v < 0.0 {
+                    ((lo - x) / v, 2 * a as u8 + 1)
+                } else {
+                    continue;
+                };
+                self.calendar.push(Event {
+                    time: t + dt.max(0.0),
+                    a: i as u32,
+                    b: WALL,
+                    side,
+                    counts: [self.count[i], 0],
                 });
             }
         }
@@ -354,6 +408,23 @@ impl EventDriven {
         from.swap_remove(k);
         self.cells[cell[1] * self.dims[0] + cell[0]].push(i as u32);
         self.cell[i] = cell;
+        self.predict(i, None);
+    }
+
+    /// Disc `i` meets wall `side` at `t`: its normal velocity reversed and scaled by the
+    /// walls' restitution, the momentum recorded.
+    fn bounce(&mut self, i: usize, side: u8, t: f64, observed: &mut Observed) {
+        self.x[i] = self.at(i, t);
+        self.time[i] = t;
+        self.count[i] += 1;
+        let axis = (side / 2) as usize;
+        let e = self.walls.expect("walls");
+        let v = self.v[i][axis];
+        let after = -e * v;
+        // The wall's side in `Observed` order: left, right, bottom, top.
+        let wall = 2 * axis + side.is_multiple_of(2) as usize;
+        observed.wall_impulse[wall] += self.mass[i] * (after - v).abs();
+        self.v[i][axis] = after;
         self.predict(i, None);
     }
 
