@@ -25,6 +25,7 @@ use std::collections::BinaryHeap;
 use thiserror::Error;
 
 use crate::config::{Boundary, Config};
+use crate::geometry::{Geometry, MinImage};
 use crate::law::{Body, Law, resolve_pair};
 use crate::particles::Particle;
 use predict::{contact_time, exit_time};
@@ -108,6 +109,8 @@ pub struct EventDriven {
     min: [f64; 2],
     /// The walls' restitution; `None` in a periodic box.
     walls: Option<f64>,
+    /// Centre differences: the minimum image in a periodic box.
+    min_image: MinImage,
     /// Per disc, at its own `time`: centre, velocity; radius, mass.
     x: Vec<[f64; 2]>,
     v: Vec<[f64; 2]>,
@@ -156,6 +159,7 @@ impl EventDriven {
             size,
             min,
             walls,
+            min_image: Geometry::new(config).min_image(),
             x: Vec::new(),
             v: Vec::new(),
             radius: Vec::new(),
@@ -287,15 +291,10 @@ impl EventDriven {
         self.law.collision_distance(self.radius[i], self.radius[j])
     }
 
-    /// `p - q`, the minimum image.
+    /// `p - q`, the minimum image in a periodic box (a disc's centre stays within a cell of
+    /// the box, so one correction per axis finds it).
     fn image(&self, p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
-        [0, 1].map(|a| {
-            let d = p[a] - q[a];
-            match self.walls {
-                Some(_) => d,
-                None => d - self.size[a] * (d / self.size[a]).round(),
-            }
-        })
+        self.min_image.diff(p[0], p[1], q[0], q[1])
     }
 
     /// The discs in the 3 × 3 cells around disc `i`'s, `i` left out.

@@ -56,16 +56,16 @@ impl Rough {
     /// Whether disc–disc contacts do anything beyond the seed's update.
     #[inline]
     pub fn rubs_pairs(&self) -> bool {
-        self.friction > 0.0 || self.rolling_resistance > 0.0
+        self.rubs_with(self.friction)
     }
 
     /// Whether the walls of the box do anything beyond the seed's bounce.
     #[inline]
     pub fn rubs_walls(&self) -> bool {
-        self.wall_friction > 0.0 || self.rolling_resistance > 0.0
+        self.rubs_with(self.wall_friction)
     }
 
-    /// Whether a wall or an obstacle of friction `friction` does anything beyond the bounce.
+    /// Whether a contact of friction `friction` does anything beyond the normal update.
     #[inline]
     pub fn rubs_with(&self, friction: f64) -> bool {
         friction > 0.0 || self.rolling_resistance > 0.0
