@@ -2,7 +2,8 @@
 //! construction.
 
 use bounce::{
-    Boundary, Config as RustConfig, MassModel, RestingContacts, RestitutionModel, VelocityUpdate,
+    Boundary, Config as RustConfig, MassModel, Method, RestingContacts, RestitutionModel,
+    VelocityUpdate,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -33,7 +34,11 @@ use serde::de::IntoDeserializer;
 /// speed), the rough discs' ``friction``, ``wall_friction`` (``None``: ``friction``),
 /// ``tangential_restitution``, ``rolling_resistance`` and ``inertia_factor`` (all 0 but the
 /// last, ½: the seed's smooth discs; any friction makes the discs turn), ``obstacles`` (a list
-/// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`).
+/// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`),
+/// ``method`` (``"time_stepped"``, the seed's loop, or ``"event_driven"``: exact hard discs,
+/// every collision at its moment of contact, ``dt`` only how often the world is observed)
+/// and ``contact_duration`` (the event-driven TC model's ``t_c``: a disc's collision within
+/// it of its last one is elastic; 0, off).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -63,6 +68,13 @@ fn resting_contacts_name(m: RestingContacts) -> &'static str {
     match m {
         RestingContacts::Bounce => "bounce",
         RestingContacts::Rest => "rest",
+    }
+}
+
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::TimeStepped => "time_stepped",
+        Method::EventDriven => "event_driven",
     }
 }
 
@@ -169,6 +181,12 @@ impl Config {
                         c.resting_contacts =
                             option::<RestingContacts>(&key, &name, "\"bounce\", \"rest\"")?
                     }
+                    "method" => {
+                        let name: String = typed(&key, v, "a string")?;
+                        c.method =
+                            option::<Method>(&key, &name, "\"time_stepped\", \"event_driven\"")?
+                    }
+                    "contact_duration" => c.contact_duration = typed(&key, v, "a number")?,
                     "friction" => c.friction = typed(&key, v, "a number")?,
                     "wall_friction" => c.wall_friction = typed(&key, v, "None or a number")?,
                     "tangential_restitution" => {
@@ -333,6 +351,18 @@ impl Config {
         resting_contacts_name(self.inner.resting_contacts)
     }
 
+    /// ``"time_stepped"`` (the seed's loop) or ``"event_driven"`` (exact hard discs).
+    #[getter]
+    fn method(&self) -> &'static str {
+        method_name(self.inner.method)
+    }
+
+    /// The event-driven TC model's ``t_c`` (0: off).
+    #[getter]
+    fn contact_duration(&self) -> f64 {
+        self.inner.contact_duration
+    }
+
     /// Coulomb's friction coefficient of disc–disc contacts (0: the seed's smooth discs).
     #[getter]
     fn friction(&self) -> f64 {
@@ -407,6 +437,13 @@ impl Config {
             parts.push(format!(
                 "tangential_restitution={:?}, rolling_resistance={:?}, inertia_factor={:?}",
                 c.tangential_restitution, c.rolling_resistance, c.inertia_factor
+            ));
+        }
+        if c.method != Method::TimeStepped || c.contact_duration != 0.0 {
+            parts.push(format!(
+                "method={:?}, contact_duration={:?}",
+                self.method(),
+                c.contact_duration
             ));
         }
         if !c.obstacles.is_empty() {

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! "BOUNCE-CHECKPOINT\n"   18 bytes
-//! version                u32 LE (5)
+//! version                u32 LE (7)
 //! payload length         u64 LE
 //! checksum               u64 LE: FNV-1a 64 of the payload
 //! fingerprint            u64 LE: FNV-1a 64 of the configuration and the particle count
@@ -21,8 +21,9 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// Version 2 added the broadphase's reference positions; version 3 the checksum, the
 /// fingerprint and the run's output state; version 4 the contacts beside the collisions in it;
 /// version 5 the configuration's `resting_contacts`; version 6 rough discs (friction in the
-/// configuration, the discs' angular velocities and orientations, the friction work).
-const VERSION: u32 = 6;
+/// configuration, the discs' angular velocities and orientations, the friction work);
+/// version 7 the configuration's `method` and `contact_duration` (event-driven runs).
+const VERSION: u32 = 7;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -224,6 +225,8 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         tangential_restitution,
         rolling_resistance,
         inertia_factor,
+        method,
+        contact_duration,
         obstacles,
         emitters,
         sinks,
@@ -268,6 +271,12 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     );
     differ("friction", f(friction), f(&b.friction));
     differ("wall_friction", f(wall_friction), f(&b.wall_friction));
+    differ("method", f(method), f(&b.method));
+    differ(
+        "contact_duration",
+        f(contact_duration),
+        f(&b.contact_duration),
+    );
     differ(
         "tangential_restitution",
         f(tangential_restitution),

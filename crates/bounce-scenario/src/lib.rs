@@ -196,6 +196,14 @@ pub struct TimeSpec {
     /// smallest radius (default: none, fixed substeps).
     #[serde(default)]
     pub max_travel: Option<f64>,
+    /// `time_stepped` (default, the seed's loop) or `event_driven` (exact hard discs: `dt`
+    /// is then how often the world is observed).
+    #[serde(default)]
+    pub method: bounce::Method,
+    /// The TC model's `t_c` for the event-driven method: a disc's collision within it of
+    /// its last one is elastic (default 0, off).
+    #[serde(default)]
+    pub contact_duration: f64,
 }
 
 /// A radius or a range of radii.
@@ -753,6 +761,8 @@ impl Scenario {
             substeps: self.time.substeps,
             solver_iterations: w.solver_iterations,
             max_travel: self.time.max_travel,
+            method: self.time.method,
+            contact_duration: self.time.contact_duration,
             boundary: match w.boundary {
                 BoundaryKind::Walls => Boundary::Walls {
                     min,

@@ -447,7 +447,11 @@ impl Session {
                 .sum();
             discs / ((hi[0] - lo[0]) * (hi[1] - lo[1]))
         });
-        let bias = packing.map(|eta| -(0.2 + 9.0 * eta * eta) * mean_travel * 100.0);
+        // Events are exact: no time-step bias, nothing tunnels.
+        let exact = config.method == bounce::Method::EventDriven;
+        let bias = packing
+            .filter(|_| !exact)
+            .map(|eta| -(0.2 + 9.0 * eta * eta) * mean_travel * 100.0);
         let mut warnings = Vec::new();
         if let Some(b) = bias
             && b < -1.0
@@ -461,7 +465,7 @@ impl Session {
                 (config.substeps as f64 * -b).ceil()
             ));
         }
-        if max_travel > 1.0 {
+        if max_travel > 1.0 && !exact {
             warnings.push(format!(
                 "the fastest disc moves {max_travel:.2} of the smallest radius per substep and \
                  can pass through small discs or walls; set time.max_travel = 0.5"

@@ -61,7 +61,7 @@ mod sum;
 mod world;
 
 pub use config::{
-    Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Motion,
+    Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Method, Motion,
     Obstacle, ObstacleState, RestingContacts, RestitutionModel, Shape, Sink, VelocityUpdate,
 };
 pub use geometry::WallImpulse;

@@ -199,6 +199,9 @@ fn config(r: &Recipe) -> Config {
             0.0
         },
         inertia_factor: if r.rough == 3 { 0.4 } else { 0.5 },
+        // The plain step is the time-stepped method's reference.
+        method: bounce::Method::TimeStepped,
+        contact_duration: 0.0,
         obstacles,
         emitters,
         sinks,

@@ -135,6 +135,8 @@ class Config:
         tangential_restitution: float = ...,
         rolling_resistance: float = ...,
         inertia_factor: float = ...,
+        method: Literal["time_stepped", "event_driven"] = ...,
+        contact_duration: float = ...,
         obstacles: Sequence[Obstacle] = ...,
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
@@ -179,6 +181,10 @@ class Config:
     def rolling_resistance(self) -> float: ...
     @property
     def inertia_factor(self) -> float: ...
+    @property
+    def method(self) -> Literal["time_stepped", "event_driven"]: ...
+    @property
+    def contact_duration(self) -> float: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""

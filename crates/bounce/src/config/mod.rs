@@ -8,8 +8,11 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod method;
 mod obstacle;
 mod sources;
+
+pub use method::Method;
 
 pub use obstacle::{Motion, Obstacle, ObstacleState, Shape};
 pub use sources::{Emitter, EmitterState, Sink};
@@ -101,6 +104,15 @@ pub struct Config {
     /// `k` in each disc's moment of inertia `I = k m r²` (`m` its mass under
     /// [`Config::mass_model`]), in `(0, 1]`. Default `0.5`, a solid disc (a ring is 1).
     pub inertia_factor: f64,
+    /// How a step advances the world (see [`Method`]). Default [`Method::TimeStepped`], the
+    /// seed's loop.
+    pub method: Method,
+    /// The TC model's duration `t_c` under [`Method::EventDriven`] (Luding & McNamara
+    /// 1998): a disc's collision (with a disc, a wall or an obstacle) within `t_c` of its
+    /// last one is elastic, so a dense inelastic group cannot collapse into infinitely many
+    /// collisions in a finite time. Default `0`, off: every collision has its restitution.
+    /// Finite and `>= 0`; the time-stepped method has no use for it.
+    pub contact_duration: f64,
     /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
     /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
     pub obstacles: Vec<Obstacle>,
@@ -132,6 +144,8 @@ impl Default for Config {
             tangential_restitution: 0.0,
             rolling_resistance: 0.0,
             inertia_factor: 0.5,
+            method: Method::TimeStepped,
+            contact_duration: 0.0,
             obstacles: Vec::new(),
             emitters: Vec::new(),
             sinks: Vec::new(),
@@ -402,6 +416,18 @@ impl Config {
                 k.to_string(),
                 "must be in (0, 1] (a solid disc is 0.5, a ring 1)",
             );
+        }
+        if !coefficient(self.contact_duration) {
+            err(
+                "contact_duration",
+                self.contact_duration.to_string(),
+                "must be finite and >= 0",
+            );
+        }
+        if self.method == Method::EventDriven
+            && let Some(what) = self.event_driven_unsupported()
+        {
+            err("method", "\"event_driven\"".into(), what);
         }
         for (k, obstacle) in self.obstacles.iter().enumerate() {
             if let Some((field, value, expected)) = obstacle.problem() {

@@ -24,6 +24,7 @@ use crate::sum::StepSums;
 
 mod access;
 mod emitters;
+mod events;
 mod obstacles;
 mod part;
 mod rotation;
@@ -154,6 +155,10 @@ pub enum StepError {
         /// The time step.
         dt: f64,
     },
+    /// The event-driven method could not start or go on (discs overlap, or the run
+    /// stalled); its discs are named by their ids.
+    #[error(transparent)]
+    EventDriven(#[from] crate::event::EventError),
     /// A position or velocity overflowed (became infinite or NaN) during the step: the time
     /// step, gravity or speeds are too large for `f64`. The world's state is no longer
     /// usable; reload a checkpoint.
@@ -378,7 +383,12 @@ impl World {
     /// world's fastest disc decides (see [`World::substeps_for_extremes`]).
     pub fn step_with_substeps(&mut self, dt: f64, substeps: u32) -> Result<&StepStats, StepError> {
         let installer = self.exec.installer(self.particles.len());
-        installer.install(|| self.step_in_pool(dt, substeps))?;
+        if self.config.method == crate::Method::EventDriven {
+            // One thread: events happen one after the other.
+            self.step_events(dt)?;
+        } else {
+            installer.install(|| self.step_in_pool(dt, substeps))?;
+        }
         Ok(&self.stats)
     }
 

@@ -1,0 +1,56 @@
+//! How a world is advanced: the time-stepped step (the seed's) or exact event-driven hard
+//! discs, and what the event-driven method does not combine with.
+
+use serde::{Deserialize, Serialize};
+
+use super::{Boundary, Config, Motion, RestingContacts};
+
+/// How [`crate::World::step`] advances the world.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// The seed's time-stepped loop: move every disc by `dt`, then find the overlapping
+    /// pairs and resolve them (push apart, velocity update). The default.
+    #[default]
+    TimeStepped,
+    /// Exact hard discs ([`crate::event`]): discs fly freely between collisions, and every
+    /// collision (with a disc, a wall, an obstacle) is resolved at the exact moment of
+    /// contact with the seed's velocity update; no overlap, so no push, and no time-step
+    /// bias. `dt` is then the interval at which the world is observed: a step processes
+    /// every event up to exactly `t + dt`.
+    EventDriven,
+}
+
+impl Config {
+    /// What in this configuration the event-driven method cannot do (`None`: it can do it
+    /// all), as the end of a sentence that starts "the event-driven method".
+    pub fn event_driven_unsupported(&self) -> Option<&'static str> {
+        if self.substeps != 1 {
+            return Some("cannot be combined with substeps > 1 (events are exact)");
+        }
+        if self.solver_iterations != 1 {
+            return Some("cannot be combined with solver_iterations > 1 (events are exact)");
+        }
+        if self.max_travel.is_some() {
+            return Some("cannot be combined with max_travel (events are exact)");
+        }
+        if self.resting_contacts == RestingContacts::Rest {
+            return Some(
+                "cannot be combined with resting_contacts = \"rest\" (use contact_duration, the TC model)",
+            );
+        }
+        if self.is_rough() {
+            return Some("cannot be combined with rough discs (friction, rolling_resistance) yet");
+        }
+        if !self.emitters.is_empty() || !self.sinks.is_empty() {
+            return Some("cannot be combined with emitters or sinks");
+        }
+        if self.obstacles.iter().any(|o| o.motion != Motion::Fixed) {
+            return Some("cannot be combined with moving obstacles");
+        }
+        if matches!(self.boundary, Boundary::Periodic { .. }) && !self.obstacles.is_empty() {
+            return Some("cannot be combined with obstacles in a periodic box");
+        }
+        None
+    }
+}

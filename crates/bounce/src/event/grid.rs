@@ -1,0 +1,276 @@
+//! The event engine's cells: a grid whose cells are at least the largest collision distance
+//! wide, so a disc can only meet discs in the 3 × 3 cells around its own, and the obstacles
+//! each cell's discs can reach. Each cell's discs are a doubly linked list through the discs
+//! (moving one is `O(1)`, nothing allocated per event). In a periodic box the grid wraps;
+//! otherwise its outer cells reach out to infinity, so a disc that leaves the region the grid
+//! was laid over (an open world) is still in a cell, only a crowded one.
+
+use crate::config::Shape;
+
+/// No disc (the end of a cell's list).
+const NONE: u32 = u32::MAX;
+
+/// The cells (see the module docs).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Grid {
+    min: [f64; 2],
+    width: [f64; 2],
+    pub dims: [usize; 2],
+    wrap: bool,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// Each disc's cell, `[x, y]`.
+    pub cell: Vec<[u32; 2]>,
+    /// The obstacles each cell's discs may reach: `obstacles[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    obstacles: Vec<u32>,
+}
+
+impl Grid {
+    /// A grid over `[min, min + size]` for `n` discs with cells at least `reach` wide and at
+    /// most about `4 n + 16` of them; wrapping or not.
+    pub(crate) fn new(min: [f64; 2], size: [f64; 2], reach: f64, n: usize, wrap: bool) -> Grid {
+        // A hair over `reach`, so round-off at a cell's side cannot hide a neighbour.
+        let reach = reach * (1.0 + 1e-9);
+        let mut dims = size.map(|s| ((s / reach).floor() as usize).clamp(1, 1 << 15));
+        let most = 4 * n + 16;
+        while dims[0] * dims[1] > most {
+            dims = dims.map(|d| d.div_ceil(2));
+        }
+        Grid {
+            min,
+            width: [size[0] / dims[0] as f64, size[1] / dims[1] as f64],
+            dims,
+            wrap,
+            head: vec![NONE; dims[0] * dims[1]],
+            next: vec![NONE; n],
+            prev: vec![NONE; n],
+            cell: vec![[0, 0]; n],
+            start: Vec::new(),
+            obstacles: Vec::new(),
+        }
+    }
+
+    /// The cell a point is in (the outer cells taking everything beyond).
+    pub(crate) fn cell_of(&self, p: [f64; 2]) -> [u32; 2] {
+        [0, 1].map(|a| {
+            let k = ((p[a] - self.min[a]) / self.width[a]).floor();
+            k.clamp(0.0, (self.dims[a] - 1) as f64) as u32
+        })
+    }
+
+    fn index(&self, c: [u32; 2]) -> usize {
+        c[1] as usize * self.dims[0] + c[0] as usize
+    }
+
+    /// Lists disc `i` in cell `c`.
+    pub(crate) fn insert(&mut self, i: usize, c: [u32; 2]) {
+        let k = self.index(c);
+        let h = self.head[k];
+        self.next[i] = h;
+        self.prev[i] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = i as u32;
+        }
+        self.head[k] = i as u32;
+        self.cell[i] = c;
+    }
+
+    /// Takes disc `i` off its cell's list.
+    pub(crate) fn remove(&mut self, i: usize) {
+        let (p, n) = (self.prev[i], self.next[i]);
+        if p == NONE {
+            let k = self.index(self.cell[i]);
+            self.head[k] = n;
+        } else {
+            self.next[p as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+
+    /// Cell `c`'s sides along `axis`, `−∞`/`∞` at the outer sides of a grid that does not
+    /// wrap.
+    pub(crate) fn sides(&self, c: [u32; 2], axis: usize) -> (f64, f64) {
+        let k = c[axis] as usize;
+        let lo = self.min[axis] + k as f64 * self.width[axis];
+        let hi = self.min[axis] + (k + 1) as f64 * self.width[axis];
+        if self.wrap {
+            return (lo, hi);
+        }
+        let lo = if k == 0 { f64::NEG_INFINITY } else { lo };
+        let hi = if k + 1 == self.dims[axis] {
+            f64::INFINITY
+        } else {
+            hi
+        };
+        (lo, hi)
+    }
+
+    /// The cell past side `side` (0 +x, 1 −x, 2 +y, 3 −y) of `c`, and how many box widths a
+    /// centre crossing it is moved by (−1, 0 or 1; only where a periodic grid wraps).
+    pub(crate) fn beyond(&self, c: [u32; 2], side: u8) -> ([u32; 2], i32) {
+        let axis = (side / 2) as usize;
+        let n = self.dims[axis] as u32;
+        let mut out = c;
+        let mut shift = 0;
+        if side % 2 == 1 {
+            if c[axis] == 0 {
+                out[axis] = n - 1;
+                shift = 1;
+            } else {
+                out[axis] -= 1;
+            }
+        } else if c[axis] + 1 == n {
+            out[axis] = 0;
+            shift = -1;
+        } else {
+            out[axis] += 1;
+        }
+        (out, shift)
+    }
+
+    /// Calls `f` with each disc in the 3 × 3 cells around `c` (the grid wrapping or not; a
+    /// periodic grid has at least 3 cells a side, so no cell comes twice).
+    #[inline]
+    pub(crate) fn for_each_near(&self, c: [u32; 2], mut f: impl FnMut(usize)) {
+        let [nx, ny] = self.dims.map(|d| d as i64);
+        for dy in -1..=1i64 {
+            let mut y = c[1] as i64 + dy;
+            if y < 0 || y >= ny {
+                if !self.wrap {
+                    continue;
+                }
+                y = y.rem_euclid(ny);
+            }
+            for dx in -1..=1i64 {
+                let mut x = c[0] as i64 + dx;
+                if x < 0 || x >= nx {
+                    if !self.wrap {
+                        continue;
+                    }
+                    x = x.rem_euclid(nx);
+                }
+                let mut j = self.head[(y * nx + x) as usize];
+                while j != NONE {
+                    f(j as usize);
+                    j = self.next[j as usize];
+                }
+            }
+        }
+    }
+
+    /// Bins `shapes` into the cells from which a disc can reach them: a shape whose box,
+    /// grown by `reach` (its reach for the largest disc), meets the cell.
+    pub(crate) fn bin_obstacles(&mut self, shapes: &[Shape], reach: impl Fn(&Shape) -> f64) {
+        let boxes: Vec<[[f64; 2]; 2]> = shapes
+            .iter()
+            .map(|s| {
+                let d = reach(s);
+                let (lo, hi) = match *s {
+                    Shape::Segment { a, b } => (
+                        [a[0].min(b[0]), a[1].min(b[1])],
+                        [a[0].max(b[0]), a[1].max(b[1])],
+                    ),
+                    Shape::Peg { centre, .. } => (centre, centre),
+                };
+                [[lo[0] - d, lo[1] - d], [hi[0] + d, hi[1] + d]]
+            })
+            .collect();
+        // Count each cell's obstacles, then fill: cells a box covers, by `cell_of`'s
+        // clamping (a box beyond the grid lands in the outer cells, which reach out).
+        let cells = self.dims[0] * self.dims[1];
+        let mut count = vec![0u32; cells + 1];
+        let ranges: Vec<[[u32; 2]; 2]> = boxes
+            .iter()
+            .map(|b| [self.cell_of(b[0]), self.cell_of(b[1])])
+            .collect();
+        let each = |r: &[[u32; 2]; 2], f: &mut dyn FnMut(usize)| {
+            for y in r[0][1]..=r[1][1] {
+                for x in r[0][0]..=r[1][0] {
+                    f(y as usize * self.dims[0] + x as usize);
+                }
+            }
+        };
+        for r in &ranges {
+            each(r, &mut |k| count[k + 1] += 1);
+        }
+        for k in 0..cells {
+            count[k + 1] += count[k];
+        }
+        let mut fill = count.clone();
+        let mut obstacles = vec![0u32; count[cells] as usize];
+        for (o, r) in ranges.iter().enumerate() {
+            each(r, &mut |k| {
+                obstacles[fill[k] as usize] = o as u32;
+                fill[k] += 1;
+            });
+        }
+        self.start = count;
+        self.obstacles = obstacles;
+    }
+
+    /// The obstacles a disc in cell `c` may reach.
+    pub(crate) fn obstacles_near(&self, c: [u32; 2]) -> &[u32] {
+        if self.start.is_empty() {
+            return &[];
+        }
+        let k = self.index(c);
+        &self.obstacles[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_periodic_grid_wraps_and_an_open_one_reaches_out() {
+        let mut g = Grid::new([0.0, 0.0], [10.0, 10.0], 2.0, 4, true);
+        assert_eq!(g.dims, [4, 4]);
+        assert_eq!(g.cell_of([9.9, 0.1]), [3, 0]);
+        assert_eq!(g.beyond([3, 0], 0), ([0, 0], -1));
+        assert_eq!(g.beyond([3, 0], 3), ([3, 3], 1));
+        assert_eq!(g.beyond([3, 2], 3), ([3, 1], 0));
+        assert_eq!(g.beyond([0, 1], 1), ([3, 1], 1));
+        g.insert(0, [3, 3]);
+        g.insert(1, [0, 0]);
+        g.insert(2, [1, 1]);
+        g.insert(3, [2, 0]);
+        let mut near = Vec::new();
+        g.for_each_near([0, 0], |j| near.push(j));
+        near.sort();
+        assert_eq!(near, vec![0, 1, 2], "the corner cell's neighbours wrap");
+        g.remove(1);
+        near.clear();
+        g.for_each_near([0, 0], |j| near.push(j));
+        near.sort();
+        assert_eq!(near, vec![0, 2]);
+
+        let open = Grid::new([0.0, 0.0], [10.0, 10.0], 2.0, 4, false);
+        assert_eq!(open.cell_of([-50.0, 99.0]), [0, 3]);
+        assert_eq!(open.sides([0, 1], 0), (f64::NEG_INFINITY, 2.5));
+        assert_eq!(open.sides([3, 1], 0), (7.5, f64::INFINITY));
+    }
+
+    #[test]
+    fn a_cell_lists_the_obstacles_its_discs_can_reach() {
+        let mut g = Grid::new([0.0, 0.0], [10.0, 10.0], 2.0, 4, false);
+        let shapes = [
+            Shape::Peg {
+                centre: [1.0, 1.0],
+                radius: 0.5,
+            },
+            Shape::Segment {
+                a: [0.0, 9.0],
+                b: [10.0, 9.0],
+            },
+        ];
+        g.bin_obstacles(&shapes, |_| 1.0);
+        assert_eq!(g.obstacles_near([0, 0]), &[0]);
+        assert_eq!(g.obstacles_near([2, 3]), &[1]);
+        assert!(g.obstacles_near([2, 1]).is_empty());
+    }
+}
