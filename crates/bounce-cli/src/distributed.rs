@@ -40,7 +40,8 @@
 //! with 1; an error or a panic on one rank prints it and aborts the job (`MPI_Abort`).
 //! `BOUNCE_MPI_PANIC_AT=RANK:STEP` makes rank RANK panic after step STEP (for the tests).
 //!
-//! Not yet across ranks: obstacles, emitters and sinks (refused with a message). Rough discs
+//! Not yet across ranks: obstacles, emitters and sinks, and the event-driven method
+//! (refused with a message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
 
@@ -167,6 +168,10 @@ fn check_supported(session: &Session) -> Result<()> {
         (!config.obstacles.is_empty(), "[[obstacle]]"),
         (!config.emitters.is_empty(), "[[emitter]]"),
         (!config.sinks.is_empty(), "[[sink]]"),
+        (
+            config.method == bounce::Method::EventDriven,
+            "time.method = \"event_driven\"",
+        ),
     ];
     for (present, what) in refused {
         if present {

@@ -172,12 +172,21 @@ impl Report<'_> {
             self.collisions,
             world.state_hash(),
         );
+        // Event-driven runs are measured in collisions: a step is only an observation.
+        let rate = if world.config().method == bounce::Method::EventDriven {
+            format!(
+                "{:.3e} collisions/s",
+                self.collisions as f64 / self.physics_time.max(1e-9)
+            )
+        } else {
+            format!(
+                "{:.1} steps/s",
+                self.ran as f64 / self.physics_time.max(1e-9)
+            )
+        };
         println!(
-            "time: physics {:.2} s ({:.1} steps/s), outputs {:.2} s, setup {:.2} s",
-            self.physics_time,
-            self.ran as f64 / self.physics_time.max(1e-9),
-            self.output_time,
-            self.setup_time,
+            "time: physics {:.2} s ({rate}), outputs {:.2} s, setup {:.2} s",
+            self.physics_time, self.output_time, self.setup_time,
         );
         println!("{}", self.time_step);
         println!("outputs in {}", args.out.display());

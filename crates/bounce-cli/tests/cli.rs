@@ -339,6 +339,7 @@ fn new_writes_templates_that_check_cleanly() {
         "piston",
         "effusion",
         "angle-of-repose",
+        "hard-discs",
     ] {
         let file = s.path(&format!("{name}.toml"));
         let (code, _, stderr) = output(bounce().args(["new", name, "--out"]).arg(&file));

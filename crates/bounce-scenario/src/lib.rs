@@ -37,7 +37,7 @@ pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
-pub const TEMPLATES: [(&str, &str); 11] = [
+pub const TEMPLATES: [(&str, &str); 12] = [
     ("gas", include_str!("../../../scenarios/gas.toml")),
     ("pile", include_str!("../../../scenarios/pile.toml")),
     (
@@ -61,6 +61,10 @@ pub const TEMPLATES: [(&str, &str); 11] = [
     ),
     ("piston", include_str!("../../../scenarios/piston.toml")),
     ("effusion", include_str!("../../../scenarios/effusion.toml")),
+    (
+        "hard-discs",
+        include_str!("../../../scenarios/hard-discs.toml"),
+    ),
 ];
 
 /// A parsed scenario file.

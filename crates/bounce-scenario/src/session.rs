@@ -160,6 +160,28 @@ impl Session {
         Ok(())
     }
 
+    /// The scenario from its start again under `method` (its `time.method` set so): a
+    /// world switched to the event-driven method mid-run would start with the overlaps the
+    /// time-stepped one leaves, which exact hard discs cannot have. What the scenario asks
+    /// that the method cannot do is the error, naming the field.
+    pub fn restart_with_method(&mut self, method: bounce::Method) -> Result<(), String> {
+        let name = match method {
+            bounce::Method::TimeStepped => "time_stepped",
+            bounce::Method::EventDriven => "event_driven",
+        };
+        let text = crate::overrides::apply(&self.text, &[format!("time.method={name}")], None)?;
+        let threads = self.world.threads();
+        *self = Session::from_text_in(
+            &self.origin,
+            &text,
+            &Limits::default(),
+            self.scenario.dir.as_deref(),
+        )
+        .map_err(|e| e.to_string())?;
+        let _ = self.world.set_threads(threads);
+        Ok(())
+    }
+
     /// One step of `dt`.
     pub fn step(&mut self) -> Result<&StepStats, StepError> {
         self.world.step(self.dt)?;
@@ -413,6 +435,9 @@ pub struct TimeStepReport {
     pub pressure_bias_percent: Option<f64>,
     /// A warning with what to change, when the bias is over 1% or discs can tunnel.
     pub warning: Option<String>,
+    /// The event-driven method: every collision exact, `dt` only how often the world is
+    /// observed (no bias, nothing tunnels).
+    pub exact: bool,
 }
 
 impl Session {
@@ -477,12 +502,21 @@ impl Session {
             packing,
             pressure_bias_percent: bias,
             warning: (!warnings.is_empty()).then(|| warnings.join("; ")),
+            exact,
         }
     }
 }
 
 impl std::fmt::Display for TimeStepReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.exact {
+            return write!(
+                f,
+                "time step: none (event-driven, every collision exact); observed every dt, \
+                 mean speed·dt/σ = {:.4}",
+                self.mean_travel
+            );
+        }
         write!(
             f,
             "time step: mean speed·dt/σ = {:.4}, max speed·dt/r_min = {:.3}",
@@ -501,6 +535,17 @@ impl std::fmt::Display for TimeStepReport {
 #[cfg(test)]
 mod time_step_tests {
     use super::*;
+
+    #[test]
+    fn an_event_driven_run_has_no_time_step_to_warn_about() {
+        let hard = Session::builtin("hard-discs").unwrap();
+        let coarse = hard.text.replace("dt = 0.1 ", "dt = 10.0 ");
+        let report = Session::from_text("coarse", &coarse)
+            .unwrap()
+            .time_step_report();
+        assert!(report.exact && report.warning.is_none() && report.pressure_bias_percent.is_none());
+        assert!(report.to_string().contains("event-driven"), "{report}");
+    }
 
     #[test]
     fn the_report_warns_when_the_step_biases_the_pressure() {

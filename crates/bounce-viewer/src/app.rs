@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use bounce::{
-    MassModel, Obstacle, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
+    MassModel, Method, Obstacle, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
 };
 use bounce_scenario::{ColorBy, Rgb, Session};
 use eframe::egui::{self, Color32, PointerButton, Sense, TextureHandle, TextureOptions};
@@ -177,6 +177,16 @@ impl ViewerApp {
         self.obstacle_colours = self.session.obstacle_colours();
     }
 
+    /// The scene from its start under `method` (see `Session::restart_with_method`).
+    fn switch_method(&mut self, method: Method) {
+        self.message = match self.session.restart_with_method(method) {
+            Ok(()) => format!("restarted {:?}", method),
+            Err(e) => e,
+        };
+        self.colour_by = self.session.colour_by;
+        self.after_reload();
+    }
+
     fn reset(&mut self) {
         self.message = match self.session.reset() {
             Ok(()) => "reset".into(),
@@ -308,6 +318,18 @@ impl ViewerApp {
                 .logarithmic(true)
                 .text("dt"),
         );
+        // The method restarts the scene: exact hard discs cannot start from the overlaps
+        // the time-stepped loop leaves.
+        let mut method = config.method;
+        ui.horizontal(|ui| {
+            ui.label("method");
+            ui.radio_value(&mut method, Method::TimeStepped, "time-stepped");
+            ui.radio_value(&mut method, Method::EventDriven, "event-driven (exact)");
+        });
+        if method != config.method {
+            self.switch_method(method);
+            return;
+        }
         ui.add(egui::Slider::new(&mut config.substeps, 1..=16).text("substeps"));
         ui.add(egui::Slider::new(&mut config.solver_iterations, 1..=16).text("solver passes"));
         let mut adaptive = config.max_travel.is_some();
@@ -995,6 +1017,26 @@ mod tests {
         a.run_to(3);
         a.reset();
         assert_eq!(step_of(&a.status()), 0);
+    }
+
+    #[test]
+    fn the_method_switch_restarts_the_gas_event_driven_and_back() {
+        let mut a = app("gas");
+        a.run_to(5);
+        a.switch_method(Method::EventDriven);
+        assert_eq!(a.session.world.config().method, Method::EventDriven);
+        assert_eq!(step_of(&a.status()), 0, "{}", a.message);
+        let count = a.session.world.len();
+        a.run_to(30);
+        assert!(a.session.world.stats().collisions > 0, "{}", a.message);
+        assert_eq!(a.session.world.len(), count);
+        a.switch_method(Method::TimeStepped);
+        assert_eq!(a.session.world.config().method, Method::TimeStepped);
+        // A scene the method cannot run says why and keeps the world it had.
+        a.open_builtin("pile").unwrap();
+        a.switch_method(Method::EventDriven);
+        assert!(a.message.contains("method"), "{}", a.message);
+        assert_eq!(a.session.world.config().method, Method::TimeStepped);
     }
 
     #[test]

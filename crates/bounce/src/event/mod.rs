@@ -26,6 +26,8 @@ mod predict;
 mod resolve;
 mod schedule;
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use thiserror::Error;
 
 use crate::config::{Boundary, Config, Shape};
@@ -60,7 +62,29 @@ pub enum EventError {
         /// The discs of the last events.
         discs: Vec<usize>,
     },
+    /// One interval took more events than it was allowed.
+    #[error(
+        "more than {events} events before t = {time} in one step: the world is observed too \
+         rarely for its collision rate (lower dt)"
+    )]
+    TooManyEvents {
+        /// The events processed.
+        events: u64,
+        /// Where it had got to.
+        time: f64,
+    },
+    /// The interrupt flag was set during the interval.
+    #[error("interrupted at t = {time}")]
+    Interrupted {
+        /// Where it had got to.
+        time: f64,
+    },
 }
+
+/// Events per disc one step (of [`crate::World::step`]) may take before it is refused with
+/// [`EventError::TooManyEvents`]: far beyond a useful observation interval, well before a
+/// run that looks hung.
+pub const MAX_EVENTS_PER_DISC: u64 = 10_000;
 
 /// What the events over an interval added up to.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -333,14 +357,36 @@ impl EventDriven {
     /// Processes every event up to `now + dt` and brings every disc there; what the events
     /// added up to. Stops with [`EventError::Stalled`] where the clock cannot move.
     pub fn advance(&mut self, dt: f64) -> Result<Observed, EventError> {
+        self.advance_within(dt, u64::MAX, None)
+    }
+
+    /// [`EventDriven::advance`] that gives up with [`EventError::TooManyEvents`] past
+    /// `budget` events, and with [`EventError::Interrupted`] when `interrupt` is set
+    /// non-zero (read every 65,536 events). Either leaves the world part of the way.
+    pub fn advance_within(
+        &mut self,
+        dt: f64,
+        budget: u64,
+        interrupt: Option<&AtomicUsize>,
+    ) -> Result<Observed, EventError> {
         let end = self.now + dt;
         self.observed = Observed {
             obstacle_impulses: vec![[0.0; 2]; self.shapes.len()],
             ..Observed::default()
         };
+        let mut events = 0u64;
         while let Some((i, t)) = self.calendar.first() {
             if t > end {
                 break;
+            }
+            events += 1;
+            if events & 0xffff == 0 {
+                if events > budget {
+                    return Err(EventError::TooManyEvents { events, time: t });
+                }
+                if interrupt.is_some_and(|flag| flag.load(Ordering::Relaxed) != 0) {
+                    return Err(EventError::Interrupted { time: t });
+                }
             }
             self.now = t;
             self.watch_progress(i)?;

@@ -4,7 +4,7 @@
 //! step, so a step is a function of the state alone: a run resumed from a checkpoint
 //! continues bit for bit.
 
-use crate::event::{EventDriven, EventError};
+use crate::event::{EventDriven, EventError, MAX_EVENTS_PER_DISC};
 use crate::integrate::turned;
 use crate::particles::Particle;
 use crate::world::step::Substepped;
@@ -25,7 +25,16 @@ impl World {
             .collect();
         let name = |e: EventError| self.name_discs(e);
         let mut engine = EventDriven::new(&self.config, &discs).map_err(name)?;
-        let seen = engine.advance(dt).map_err(|e| self.name_discs(e))?;
+        let budget = MAX_EVENTS_PER_DISC.saturating_mul(discs.len().max(100) as u64);
+        let seen = match engine.advance_within(dt, budget, self.interrupt.as_deref()) {
+            Ok(seen) => seen,
+            Err(EventError::Interrupted { .. }) => {
+                return Err(StepError::Interrupted {
+                    step: self.steps + 1,
+                });
+            }
+            Err(e) => return Err(self.name_discs(e)),
+        };
         let p = &mut self.particles;
         for i in 0..p.len() {
             let ((position, image), (_, velocity)) = (engine.wrapped(i), engine.state(i));
@@ -60,6 +69,10 @@ impl World {
             EventError::Stalled { time, discs } => EventError::Stalled {
                 time: self.time + time,
                 discs: discs.into_iter().map(id).collect(),
+            },
+            EventError::TooManyEvents { events, time } => EventError::TooManyEvents {
+                events,
+                time: self.time + time,
             },
             unsupported => unsupported,
         })

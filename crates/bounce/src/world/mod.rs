@@ -141,7 +141,9 @@ pub enum StepError {
     },
     /// The interrupt flag ([`World::set_interrupt`]) was set during a step of several
     /// substeps: the step stopped between two of them, and the world is left there, part of
-    /// the way through the step. Restore it from a copy taken before the step.
+    /// the way through the step. Restore it from a copy taken before the step. (Under the
+    /// event-driven method the flag is read between events, and the world is left as it
+    /// was before the step.)
     #[error("step {step} was interrupted between two of its substeps")]
     Interrupted {
         /// The step that was interrupted.
