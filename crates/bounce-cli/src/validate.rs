@@ -19,6 +19,10 @@
 //!    `|g| dt` under the seed's bounce and is still under `resting_contacts = "rest"`.
 //! 7. Rough discs: a disc on a 20° incline rolls without slipping at `(2/3) g sin θ`
 //!    (friction 0.5) and slides at `g (sin θ − μ cos θ)` (friction 0.05), within 1%.
+//! 8. Exact hard discs (the event-driven method): Z at packings 0.3 and 0.5 against Monte
+//!    Carlo (2.0631, 4.1062; Kolafa & Rottner, Mol. Phys. 104, 3435 (2006)) within 1%, and
+//!    the collision rate at 0.3 against Enskog's `2 n σ g(σ) √(π kT / m)` with Henderson's
+//!    contact value `g(σ) = (1 − 7η/16) / (1 − η)²`, within 2%.
 //!
 //! It writes `validate.png` (Z against packing with Henderson's curve) and states its runtime.
 
@@ -316,6 +320,56 @@ fn rough_incline() -> Result<Check> {
 
 /// Runs every check, prints the report and writes `validate.png` into `out`. Returns whether
 /// all passed.
+/// The event-driven method's equation of state at packings 0.3 and 0.5, and its collision
+/// rate at 0.3 against Enskog's.
+fn hard_discs(size: Size) -> Result<Vec<Check>> {
+    let mut checks = Vec::new();
+    for (packing, monte_carlo) in [(0.3, 2.0631), (0.5, 4.1062)] {
+        let config = Config {
+            method: bounce::Method::EventDriven,
+            ..Config::default()
+        };
+        let mut world = periodic_gas(size.discs, packing, Speeds::Temperature(1.0), config)?;
+        let dt = 0.5;
+        for _ in 0..(size.time / 4.0 / dt) as usize {
+            world.step(dt)?;
+        }
+        let (min, max) = world.config().boundary.bounds().expect("a box");
+        let area = (max[0] - min[0]) * (max[1] - min[1]);
+        let (mut pa, mut ke, mut collisions, mut time) = (0.0, 0.0, 0usize, 0.0);
+        for _ in 0..(size.time / dt) as usize {
+            let s = world.step(dt)?;
+            pa += s.pressure.unwrap_or(0.0) * area;
+            ke += s.kinetic_energy;
+            collisions += s.collisions;
+            time += dt;
+        }
+        let z = pa / ke;
+        checks.push(Check {
+            name: format!("exact hard discs: equation of state at packing {packing}"),
+            measured: format!("Z = {z:.4}"),
+            expected: format!("Monte Carlo {monte_carlo} ± 1%"),
+            pass: (z / monte_carlo - 1.0).abs() < 0.01,
+        });
+        if packing == 0.3 {
+            // kT = KE / N in 2D; the seed's mass = radius = 0.5; σ = 1.
+            let n = size.discs as f64;
+            let kt = ke / (n * (size.time / dt).floor());
+            let density = n / area;
+            let g = (1.0 - 7.0 * packing / 16.0) / (1.0 - packing).powi(2);
+            let enskog = 2.0 * density * g * (std::f64::consts::PI * kt / 0.5).sqrt();
+            let rate = 2.0 * collisions as f64 / (n * time);
+            checks.push(Check {
+                name: "exact hard discs: collision rate at packing 0.3".into(),
+                measured: format!("{rate:.4} per disc per time"),
+                expected: format!("Enskog (Henderson's g(σ)) {enskog:.4} ± 2%"),
+                pass: (rate / enskog - 1.0).abs() < 0.02,
+            });
+        }
+    }
+    Ok(checks)
+}
+
 pub fn validate(quick: bool, out: &Path) -> Result<bool> {
     let start = Instant::now();
     let size = if quick {
@@ -347,6 +401,7 @@ pub fn validate(quick: bool, out: &Path) -> Result<bool> {
     checks.push(model_options());
     checks.push(resting_contacts()?);
     checks.push(rough_incline()?);
+    checks.extend(hard_discs(size)?);
     for c in &checks {
         println!(
             "{}  {}: {} (expected {})",

@@ -1,7 +1,8 @@
-//! The event-driven engine's core (`bounce::event`): a collision and a wall hit at the
-//! hand-computed time, energy and momentum kept by elastic hard discs over a million
-//! collisions, the hard-disc equation of state against Monte Carlo, and between walls the
-//! walls' pressure equal to the virial's.
+//! The event-driven engine's core (`bounce::event`) against hand calculations and kinetic
+//! theory: a collision and a wall hit at the hand-computed time, energy and momentum kept by
+//! elastic hard discs over a million collisions, the hard-disc equation of state against
+//! Monte Carlo, between walls the walls' pressure equal to the virial's, the collision rate
+//! against Enskog's, equipartition in a binary mixture, and Haff's cooling law.
 
 use bounce::event::{EventDriven, EventError};
 use bounce::scene::{self, Gas, Speeds};
@@ -252,4 +253,119 @@ fn the_hard_disc_equation_of_state_matches_monte_carlo() {
             "packing {packing}: Z = {z} against {monte_carlo}"
         );
     }
+}
+
+/// `2 n σ g(σ) √(π kT / m)`, Enskog's collision rate per disc with Henderson's contact value,
+/// for discs of diameter 1 and mass 0.5 (the seed's mass = radius).
+fn enskog_rate(packing: f64, kt: f64) -> f64 {
+    let density = packing / (std::f64::consts::PI * 0.25);
+    let g = (1.0 - 7.0 * packing / 16.0) / (1.0 - packing).powi(2);
+    2.0 * density * g * (std::f64::consts::PI * kt / 0.5).sqrt()
+}
+
+#[test]
+fn the_collision_rate_is_enskogs_with_hendersons_contact_value() {
+    let (config, discs) = gas(2000, 0.3);
+    let mut world = EventDriven::new(&config, &discs).unwrap();
+    world.advance(10.0).unwrap();
+    let kt = world.kinetic_energy() / 2000.0;
+    let span = 100.0;
+    let collisions = world.advance(span).unwrap().collisions;
+    let rate = 2.0 * collisions as f64 / (2000.0 * span);
+    let enskog = enskog_rate(0.3, kt);
+    assert!(
+        (rate / enskog - 1.0).abs() < 0.01,
+        "{rate} collisions per disc per time against Enskog's {enskog}"
+    );
+}
+
+#[test]
+fn a_binary_mixture_shares_its_energy_equally() {
+    // Radii 0.6 and 0.3 with masses by area (4 : 1), all starting at speed 1: the large
+    // discs start with 4 times the energy, and collisions share it out equally per disc.
+    let side = (1000.0 * std::f64::consts::PI * (0.36 + 0.09) / 0.25f64).sqrt();
+    let config = Config {
+        boundary: Boundary::periodic([0.0, 0.0], [side, side]),
+        mass_model: bounce::MassModel::Area,
+        ..Config::default()
+    };
+    let mut discs = Vec::new();
+    for (radius, seed) in [(0.6, 3), (0.3, 4)] {
+        let gas = Gas {
+            count: 1000,
+            radius: [radius, radius],
+            region: None,
+            speeds: Speeds::Fixed(1.0),
+            drift: [0.0, 0.0],
+            seed,
+        };
+        discs.extend(scene::gas_among(&gas, &config, &discs).unwrap());
+    }
+    let mut world = EventDriven::new(&config, &discs).unwrap();
+    world.advance(50.0).unwrap();
+    let (mut large, mut small) = (0.0, 0.0);
+    for _ in 0..200 {
+        world.advance(1.0).unwrap();
+        for d in world.particles() {
+            let e = 0.5 * d.mass.unwrap() * (d.velocity[0].powi(2) + d.velocity[1].powi(2));
+            if d.radius > 0.45 {
+                large += e;
+            } else {
+                small += e;
+            }
+        }
+    }
+    assert!((large / small - 1.0).abs() < 0.02, "{}", large / small);
+}
+
+#[test]
+fn a_cooling_gas_follows_haffs_law_and_keeps_its_momentum() {
+    // 8,000 discs at relative restitution 0.95 and packing 0.1: T(t) = T0 / (1 + t/τ)² with
+    // 1/τ = (1 − e²) ω0 / 4 (each collision loses (1 − e²) kT on average; ω0 Enskog's rate).
+    let e = 0.95;
+    let (config, discs) = gas(8000, 0.1);
+    let config = Config {
+        coefficient_of_restitution: e,
+        restitution_model: bounce::RestitutionModel::RelativeNormalVelocity,
+        ..config
+    };
+    // Melted elastically first: a lattice has no close pairs, so too few collisions.
+    let mut melting = EventDriven::new(
+        &Config {
+            coefficient_of_restitution: 1.0,
+            ..config.clone()
+        },
+        &discs,
+    )
+    .unwrap();
+    melting.advance(20.0).unwrap();
+    let mut discs = melting.particles();
+    scene::zero_momentum(&mut discs, &config, [0.0, 0.0]);
+    let mut world = EventDriven::new(&config, &discs).unwrap();
+    let momentum = |w: &EventDriven| {
+        w.particles().iter().fold([0.0, 0.0], |p, d| {
+            let m = d.mass.unwrap();
+            [p[0] + m * d.velocity[0], p[1] + m * d.velocity[1]]
+        })
+    };
+    let t0 = world.kinetic_energy() / 8000.0;
+    let tau = 4.0 / ((1.0 - e * e) * enskog_rate(0.1, t0));
+    // To τ/2, where T is 44 % of T0: later the shear modes of a box this size (250
+    // diameters) grow, and the gas starts to cluster (T then runs above Haff's).
+    for k in 1..=4 {
+        world.advance(tau / 8.0).unwrap();
+        let t = k as f64 * tau / 8.0;
+        let haff = t0 / (1.0 + t / tau).powi(2);
+        let measured = world.kinetic_energy() / 8000.0;
+        assert!(
+            (measured / haff - 1.0).abs() < 0.01,
+            "at t = {t:.1}: T = {measured} against Haff's {haff}"
+        );
+    }
+    let p = momentum(&world);
+    let scale = 8000.0 * 0.5 * t0.sqrt();
+    assert!(
+        p[0].abs() < 1e-12 * scale && p[1].abs() < 1e-12 * scale,
+        "{p:?}"
+    );
 }
