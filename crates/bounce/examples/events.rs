@@ -1,5 +1,7 @@
-//! Collisions per second of the event-driven engine for a periodic hard-disc gas:
-//! `cargo run --release -p bounce --example events -- N PACKING TIME`.
+//! Collisions per second of the event-driven engine for a periodic hard-disc gas, and its
+//! compressibility factor Z = P A / (N kT) from the collision virial:
+//! `cargo run --release -p bounce --example events -- N PACKING TIME` (the gas melts for
+//! TIME first, then is measured over TIME).
 
 use std::time::Instant;
 
@@ -33,8 +35,11 @@ fn main() {
     let start = Instant::now();
     let seen = world.advance(time).expect("runs");
     let spent = start.elapsed().as_secs_f64();
+    let kt = world.kinetic_energy() / n as f64;
+    let z = 1.0 + seen.virial / (2.0 * time * n as f64 * kt);
     println!(
-        "N {n} packing {packing}: built in {built:.3} s; {} collisions in {spent:.3} s: {:.3e} per second",
+        "N {n} packing {packing}: built in {built:.3} s; {} collisions in {spent:.3} s: \
+         {:.3e} per second; Z = {z:.4}",
         seen.collisions,
         seen.collisions as f64 / spent
     );

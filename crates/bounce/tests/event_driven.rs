@@ -235,24 +235,30 @@ fn elastic_hard_discs_keep_energy_and_momentum_over_a_million_collisions() {
 #[test]
 fn the_hard_disc_equation_of_state_matches_monte_carlo() {
     // Z = P A / (N kT) = 1 + Σ r_ij·Δp_ij / (2 Δt N kT) (the virial theorem in 2D), from the
-    // collisions over 200 time units after 20 to melt the lattice; against the Monte Carlo
-    // values the issue quotes for packing 0.3 (2.0631) and 0.5 (4.1062).
-    for (packing, monte_carlo) in [(0.3, 2.0631), (0.5, 4.1062)] {
+    // collisions over 400 time units after 20 to melt the lattice, for 2,000 discs; against
+    // the Monte Carlo values the issue quotes, within 0.2 %.
+    let monte_carlo = [
+        (0.1, 1.2361),
+        (0.2, 1.5702),
+        (0.3, 2.0631),
+        (0.4, 2.8292),
+        (0.5, 4.1062),
+        (0.6, 6.4537),
+    ];
+    let mut wrong = Vec::new();
+    for (packing, z_mc) in monte_carlo {
         let (config, discs) = gas(2000, packing);
         let mut world = EventDriven::new(&config, &discs).unwrap();
         world.advance(20.0).unwrap();
         let kt = world.kinetic_energy() / 2000.0;
-        let mut virial = 0.0;
-        let span = 200.0;
-        for _ in 0..200 {
-            virial += world.advance(span / 200.0).unwrap().virial;
-        }
+        let span = 400.0;
+        let virial = world.advance(span).unwrap().virial;
         let z = 1.0 + virial / (2.0 * span * 2000.0 * kt);
-        assert!(
-            (z / monte_carlo - 1.0).abs() < 0.005,
-            "packing {packing}: Z = {z} against {monte_carlo}"
-        );
+        if (z / z_mc - 1.0).abs() > 0.002 {
+            wrong.push(format!("packing {packing}: Z = {z} against {z_mc}"));
+        }
     }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
 /// `2 n σ g(σ) √(π kT / m)`, Enskog's collision rate per disc with Henderson's contact value,
