@@ -4,6 +4,8 @@
 //! Monte Carlo, between walls the walls' pressure equal to the virial's, the collision rate
 //! against Enskog's, equipartition in a binary mixture, and Haff's cooling law.
 
+mod common;
+
 use bounce::event::{EventDriven, EventError};
 use bounce::scene::{self, Gas, Speeds};
 use bounce::{Boundary, Config, Particle};
@@ -162,19 +164,7 @@ fn gas(count: usize, packing: f64) -> (Config, Vec<Particle>) {
 
 /// `count` discs of radius 0.5 on a lattice filling `config`'s box, kT = 1.
 fn gas_in(config: Config, count: usize) -> (Config, Vec<Particle>) {
-    let discs = scene::packed_gas(
-        &Gas {
-            count,
-            radius: [0.5, 0.5],
-            region: None,
-            speeds: Speeds::Temperature(1.0),
-            drift: [0.0, 0.0],
-            seed: 3,
-        },
-        &config,
-        &[],
-    )
-    .unwrap();
+    let discs = common::lattice_gas(&config, count, 3);
     (config, discs)
 }
 

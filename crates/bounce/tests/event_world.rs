@@ -3,8 +3,9 @@
 //! refusals and the stall message, the TC model, determinism and resume, and the
 //! time-stepped method converging to the event-driven pressure as dt falls.
 
+mod common;
+
 use bounce::event::EventError;
-use bounce::scene::{self, Gas, Speeds};
 use bounce::{
     Boundary, Config, Method, Obstacle, Particle, ParticleId, RestitutionModel, StepError, World,
 };
@@ -187,21 +188,9 @@ fn a_run_that_cannot_advance_stops_naming_the_discs_and_the_time() {
     }
 }
 
-/// `count` discs of radius 0.5 at `packing`, kT = 1, in `config`'s box (a lattice).
+/// `count` discs of radius 0.5 at kT = 1 on a lattice in `config`'s box.
 fn gas(config: Config, count: usize, seed: u64) -> World {
-    let discs = scene::packed_gas(
-        &Gas {
-            count,
-            radius: [0.5, 0.5],
-            region: None,
-            speeds: Speeds::Temperature(1.0),
-            drift: [0.0, 0.0],
-            seed,
-        },
-        &config,
-        &[],
-    )
-    .unwrap();
+    let discs = common::lattice_gas(&config, count, seed);
     world_with(config, &discs)
 }
 

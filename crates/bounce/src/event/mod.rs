@@ -292,8 +292,14 @@ impl EventDriven {
                     image[a] = wrap(&mut p[a], min[a], size[a]);
                 }
             }
+            // Round-off past a wall (a disc the last interval ended on its way to it) is
+            // no fault: it meets the wall at once.
+            let slack = |a: usize| 1e-9 * (size[a] + d.radius);
             if walls.is_some()
-                && (0..2).any(|a| p[a] - d.radius < min[a] || p[a] + d.radius > min[a] + size[a])
+                && (0..2).any(|a| {
+                    p[a] - d.radius < min[a] - slack(a)
+                        || p[a] + d.radius > min[a] + size[a] + slack(a)
+                })
             {
                 return Err(EventError::Disc(k, "reaches beyond the walls".into()));
             }

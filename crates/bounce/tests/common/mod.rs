@@ -51,3 +51,21 @@ pub fn assert_close(a: f64, b: f64, tol: f64, what: &str) {
         "{what}: {a} vs {b} (tolerance {tol:e})"
     );
 }
+
+/// `count` discs of radius 0.5 at kT = 1 on a triangular lattice filling `config`'s box
+/// (a gas that melts; no two discs overlap, as exact hard discs need).
+pub fn lattice_gas(config: &Config, count: usize, seed: u64) -> Vec<bounce::Particle> {
+    scene::packed_gas(
+        &Gas {
+            count,
+            radius: [0.5, 0.5],
+            region: None,
+            speeds: Speeds::Temperature(1.0),
+            drift: [0.0, 0.0],
+            seed,
+        },
+        config,
+        &[],
+    )
+    .expect("a lattice fits")
+}
