@@ -140,6 +140,43 @@ fn stats_csv_has_the_documented_columns_and_rows() {
 }
 
 #[test]
+fn an_event_driven_run_reports_collisions_per_second_and_the_exact_pressure() {
+    let s = Scratch::new();
+    let scenario = s.path("hard.toml");
+    let (code, _, stderr) = output(bounce().args(["new", "hard-discs", "--out"]).arg(&scenario));
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .args(["--steps", "100", "--out"])
+            .arg(s.path("out")),
+    );
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("collisions/s"), "{stdout}");
+    assert!(
+        stdout.contains("event-driven, every collision exact"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap_or(f64::NAN))
+        .collect();
+    // Z = P A / (N kT) near Monte Carlo's 4.106 (one row of 1 time unit: within 5 %).
+    let area = 56.049_912_163_979_28f64.powi(2);
+    let z = last[at("pressure")] * area / (2000.0 * last[at("temperature")]);
+    assert!((z / 4.1062 - 1.0).abs() < 0.05, "Z = {z}");
+    assert!(last[at("collisions")] > 1000.0);
+    assert!(s.path("out/trajectory.gsd").exists() && s.path("out/animation.gif").exists());
+}
+
+#[test]
 fn a_piston_run_reports_its_force_position_and_work() {
     let s = Scratch::new();
     let scenario = s.path("piston.toml");
