@@ -7,8 +7,11 @@
 //! steps that rebuild bounce's candidate list included), with the 99th percentile and the
 //! median beside it. Each engine and scene runs in a child process of its own, so the peak
 //! resident memory it reports is that run's. The machine is read from the system.
+//! `bounce-bench events [--counts N,N] [--packing η] [--time T]` measures the event-driven
+//! method instead, in collisions per second (`events.rs`).
 
 mod engines;
+mod events;
 mod scenes;
 
 use std::path::{Path, PathBuf};
@@ -51,6 +54,17 @@ struct Cli {
 enum Cmd {
     /// Draws bench.png again from a saved bench.csv.
     Plot { csv: PathBuf, png: PathBuf },
+    /// The event-driven method: collisions per second and Z for periodic gases.
+    Events {
+        /// Disc counts, ascending.
+        #[arg(long, value_delimiter = ',', default_value = "100000,1000000")]
+        counts: Vec<usize>,
+        #[arg(long, default_value_t = 0.5)]
+        packing: f64,
+        /// Time units to melt, then to measure.
+        #[arg(long, default_value_t = 1.0)]
+        time: f64,
+    },
     /// Runs one engine on one scene and prints one result line (used by the parent).
     One {
         engine: String,
@@ -89,6 +103,11 @@ fn main() -> Result<()> {
             cache,
         }) => return one(&engine, &scene, quick, &cache),
         Some(Cmd::Plot { csv, png }) => return plot(&read_csv(&csv)?, &png),
+        Some(Cmd::Events {
+            counts,
+            packing,
+            time,
+        }) => return events::run(&counts, packing, time, &Machine::read().line()),
         None => {}
     }
     let scenes: Vec<SceneKind> = if cli.scenes.is_empty() {

@@ -378,3 +378,14 @@ fn a_cooling_gas_follows_haffs_law_and_keeps_its_momentum() {
         "{p:?}"
     );
 }
+
+#[test]
+fn the_engine_holds_at_most_200_bytes_a_disc() {
+    let (config, discs) = gas(20_000, 0.5);
+    let world = EventDriven::new(&config, &discs).unwrap();
+    let per_disc = world.memory_bytes() as f64 / 20_000.0;
+    assert!(
+        (100.0..=200.0).contains(&per_disc),
+        "{per_disc} bytes a disc"
+    );
+}

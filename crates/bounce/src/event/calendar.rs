@@ -32,6 +32,11 @@ impl Calendar {
         calendar
     }
 
+    /// The bytes the calendar holds.
+    pub(crate) fn memory_bytes(&self) -> usize {
+        8 * self.time.capacity() + 4 * self.tree.capacity()
+    }
+
     /// The earlier of two slots (the lower on a tie; padding never wins).
     #[inline]
     fn winner(&self, a: u32, b: u32) -> u32 {

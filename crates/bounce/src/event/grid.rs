@@ -52,6 +52,16 @@ impl Grid {
         }
     }
 
+    /// The bytes the grid holds.
+    pub(crate) fn memory_bytes(&self) -> usize {
+        4 * (self.head.capacity()
+            + self.next.capacity()
+            + self.prev.capacity()
+            + 2 * self.cell.capacity()
+            + self.start.capacity()
+            + self.obstacles.capacity())
+    }
+
     /// The cell a point is in (the outer cells taking everything beyond).
     pub(crate) fn cell_of(&self, p: [f64; 2]) -> [u32; 2] {
         [0, 1].map(|a| {

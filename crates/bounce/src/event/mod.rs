@@ -466,6 +466,17 @@ impl EventDriven {
             .sum()
     }
 
+    /// The bytes the engine holds for its discs, cells and calendar (what a disc costs:
+    /// this over the count).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let n = self.d.capacity();
+        n * (size_of::<State>() + 2 * size_of::<u32>() + size_of::<f64>() + size_of::<[i32; 2]>())
+            + self.next.capacity() * size_of::<Next>()
+            + self.grid.memory_bytes()
+            + self.calendar.memory_bytes()
+    }
+
     /// The box's area (0 in an open world).
     pub fn area(&self) -> f64 {
         self.size[0] * self.size[1]
