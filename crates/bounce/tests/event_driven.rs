@@ -389,3 +389,58 @@ fn the_engine_holds_at_most_200_bytes_a_disc() {
         "{per_disc} bytes a disc"
     );
 }
+
+#[test]
+fn a_large_disc_among_small_ones_misses_no_collision() {
+    // A disc of radius 6 (kept off the cell lists, which are sized for the small discs)
+    // among 3,000 of radius 0.3, mass = area: after 20 time units nothing overlaps (a missed
+    // collision would leave a pair inside each other), energy is kept, and the large disc
+    // has been hit.
+    let side = 60.0;
+    let config = Config {
+        boundary: Boundary::periodic([0.0, 0.0], [side, side]),
+        mass_model: bounce::MassModel::Area,
+        ..Config::default()
+    };
+    let mut discs = vec![Particle::new([30.0, 30.0], [0.0, 0.0], 6.0)];
+    let gas = Gas {
+        count: 3000,
+        radius: [0.3, 0.3],
+        region: None,
+        speeds: Speeds::Temperature(1.0),
+        drift: [0.0, 0.0],
+        seed: 9,
+    };
+    discs.extend(scene::gas_among(&gas, &config, &discs).unwrap());
+    let mut world = EventDriven::new(&config, &discs).unwrap();
+    let energy = world.kinetic_energy();
+    let gap = |a: &Particle, b: &Particle| {
+        let d = [0, 1].map(|k| {
+            let d = a.position[k] - b.position[k];
+            d - side * (d / side).round()
+        });
+        d[0].hypot(d[1]) - (a.radius + b.radius)
+    };
+    let mut collisions = 0;
+    for _ in 0..200 {
+        collisions += world.advance(0.1).unwrap().collisions;
+        // Nothing inside the large disc at any observation.
+        let now = world.particles();
+        let deepest = now[1..].iter().map(|d| gap(&now[0], d)).fold(0.0, f64::min);
+        assert!(
+            deepest > -1e-9,
+            "a small disc is {} inside the large one",
+            -deepest
+        );
+    }
+    assert!(collisions > 10_000);
+    assert!((world.kinetic_energy() / energy - 1.0).abs() < 1e-12);
+    let after = world.particles();
+    assert!(after[0].velocity != [0.0, 0.0], "the large disc was hit");
+    for i in 0..after.len() {
+        for j in i + 1..after.len() {
+            let gap = gap(&after[i], &after[j]);
+            assert!(gap > -1e-9, "discs {i} and {j} overlap by {}", -gap);
+        }
+    }
+}

@@ -62,6 +62,11 @@ impl Grid {
             + self.obstacles.capacity())
     }
 
+    /// The cells' width along each axis.
+    pub(crate) fn width(&self) -> [f64; 2] {
+        self.width
+    }
+
     /// The cell a point is in (the outer cells taking everything beyond).
     pub(crate) fn cell_of(&self, p: [f64; 2]) -> [u32; 2] {
         [0, 1].map(|a| {
@@ -84,6 +89,11 @@ impl Grid {
             self.prev[h as usize] = i as u32;
         }
         self.head[k] = i as u32;
+        self.cell[i] = c;
+    }
+
+    /// Puts disc `i` in cell `c` without listing it (a large disc: see `EventDriven`).
+    pub(crate) fn place(&mut self, i: usize, c: [u32; 2]) {
         self.cell[i] = c;
     }
 
@@ -142,27 +152,34 @@ impl Grid {
         (out, shift)
     }
 
-    /// Calls `f` with each disc in the 3 × 3 cells around `c` (the grid wrapping or not; a
-    /// periodic grid has at least 3 cells a side, so no cell comes twice).
+    /// Calls `f` with each disc in the 3 × 3 cells around `c`.
     #[inline]
-    pub(crate) fn for_each_near(&self, c: [u32; 2], mut f: impl FnMut(usize)) {
-        let [nx, ny] = self.dims.map(|d| d as i64);
-        for dy in -1..=1i64 {
-            let mut y = c[1] as i64 + dy;
-            if y < 0 || y >= ny {
-                if !self.wrap {
-                    continue;
-                }
-                y = y.rem_euclid(ny);
+    pub(crate) fn for_each_near(&self, c: [u32; 2], f: impl FnMut(usize)) {
+        self.for_each_within(c, 1, f);
+    }
+
+    /// Calls `f` with each disc listed in the cells at most `k` cells from `c` along each
+    /// axis (the grid wrapping or not; where `2k + 1` cells reach round a periodic grid,
+    /// each cell once).
+    #[inline]
+    pub(crate) fn for_each_within(&self, c: [u32; 2], k: u32, mut f: impl FnMut(usize)) {
+        let range = |axis: usize| -> (i64, i64) {
+            let n = self.dims[axis] as i64;
+            let k = k as i64;
+            if self.wrap && 2 * k + 1 >= n {
+                (0, n - 1)
+            } else if self.wrap {
+                (c[axis] as i64 - k, c[axis] as i64 + k)
+            } else {
+                ((c[axis] as i64 - k).max(0), (c[axis] as i64 + k).min(n - 1))
             }
-            for dx in -1..=1i64 {
-                let mut x = c[0] as i64 + dx;
-                if x < 0 || x >= nx {
-                    if !self.wrap {
-                        continue;
-                    }
-                    x = x.rem_euclid(nx);
-                }
+        };
+        let [nx, ny] = self.dims.map(|d| d as i64);
+        let ((y0, y1), (x0, x1)) = (range(1), range(0));
+        for y in y0..=y1 {
+            let y = y.rem_euclid(ny);
+            for x in x0..=x1 {
+                let x = x.rem_euclid(nx);
                 let mut j = self.head[(y * nx + x) as usize];
                 while j != NONE {
                     f(j as usize);
@@ -253,6 +270,11 @@ mod tests {
         g.for_each_near([0, 0], |j| near.push(j));
         near.sort();
         assert_eq!(near, vec![0, 1, 2], "the corner cell's neighbours wrap");
+        // Two cells round a 4-cell grid reach every cell once.
+        near.clear();
+        g.for_each_within([0, 0], 2, |j| near.push(j));
+        near.sort();
+        assert_eq!(near, vec![0, 1, 2, 3]);
         g.remove(1);
         near.clear();
         g.for_each_near([0, 0], |j| near.push(j));

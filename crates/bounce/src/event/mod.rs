@@ -114,6 +114,9 @@ struct State {
     mass: f64,
     /// Events that changed its velocity.
     count: u32,
+    /// 0 for a disc listed in its cell; for a large one (kept off the lists), how many
+    /// cells its reach spans.
+    span: u32,
 }
 
 /// What a disc's slot holds.
@@ -170,6 +173,8 @@ pub struct EventDriven {
     obstacle_restitution: Vec<f64>,
     /// Each disc's flight, in the engine's order (by cell, for locality).
     d: Vec<State>,
+    /// The large discs (see `new`), ascending.
+    large: Vec<u32>,
     /// The caller's number of each disc, and the disc of each caller's number.
     order: Vec<u32>,
     slot: Vec<u32>,
@@ -210,9 +215,28 @@ impl EventDriven {
             }
             Boundary::Open => ([0.0; 2], [0.0; 2], false, None),
         };
-        let reach = discs
+        // Cells as wide as the largest collision distance of the ordinary discs; discs over
+        // 4 times the median interaction diameter are large: kept off the cell lists, each
+        // looks through the cells its reach spans, and every disc looks at them all.
+        let diameters: Vec<f64> = discs
             .iter()
             .map(|d| law.interaction_diameter(d.radius))
+            .collect();
+        let large_above = {
+            let mut sorted = diameters.clone();
+            sorted.sort_unstable_by(f64::total_cmp);
+            4.0 * sorted.get(sorted.len() / 2).copied().unwrap_or(0.0)
+        };
+        let is_large = |d: f64| large_above > 0.0 && d > large_above;
+        let reach = diameters
+            .iter()
+            .copied()
+            .filter(|&d| !is_large(d))
+            .fold(0.0, f64::max);
+        let small_radius = discs
+            .iter()
+            .map(|d| d.radius)
+            .filter(|&r| !is_large(law.interaction_diameter(r)))
             .fold(0.0, f64::max);
         // The grid: over the box, or over where the discs are in an open world.
         let (grid_min, grid_size) = if config.boundary == Boundary::Open {
@@ -261,6 +285,7 @@ impl EventDriven {
                 .collect(),
             d: Vec::with_capacity(n),
             order: Vec::with_capacity(n),
+            large: Vec::new(),
             slot: vec![0; n],
             last: vec![f64::NEG_INFINITY; n],
             image: vec![[0; 2]; n],
@@ -309,6 +334,13 @@ impl EventDriven {
         placed.sort_unstable_by_key(|&(y, x, k, ..)| (y, x, k));
         for (i, &(y, x, k, p, image)) in placed.iter().enumerate() {
             let d = &discs[k as usize];
+            let span = if is_large(law.interaction_diameter(d.radius)) {
+                let width = world.grid.width();
+                let sigma = law.collision_distance(d.radius, small_radius);
+                (sigma / width[0].min(width[1])).ceil().max(1.0) as u32
+            } else {
+                0
+            };
             world.d.push(State {
                 x: p,
                 v: d.velocity,
@@ -319,15 +351,21 @@ impl EventDriven {
                     d.mass.unwrap_or(std::f64::consts::PI * d.radius * d.radius),
                 ),
                 count: 0,
+                span,
             });
             world.order.push(k);
             world.slot[k as usize] = i as u32;
             world.image[i] = image;
-            world.grid.insert(i, [x, y]);
+            if span == 0 {
+                world.grid.insert(i, [x, y]);
+            } else {
+                world.grid.place(i, [x, y]);
+                world.large.push(i as u32);
+            }
         }
         for i in 0..n {
             let mut overlap = None;
-            world.grid.for_each_near(world.grid.cell[i], |j| {
+            world.for_each_near(i, |j| {
                 if j > i && overlap.is_none() {
                     let d = world.min_image.diff(
                         world.d[i].x[0],
@@ -480,6 +518,21 @@ impl EventDriven {
     /// The box's area (0 in an open world).
     pub fn area(&self) -> f64 {
         self.size[0] * self.size[1]
+    }
+
+    /// Calls `f` with every disc `i` may meet before it leaves its cell (`i` itself
+    /// included): an ordinary disc, the discs listed in the 3 × 3 cells around it; a large
+    /// one, those in the cells its reach spans; both, every large disc.
+    #[inline]
+    pub(super) fn for_each_near(&self, i: usize, mut f: impl FnMut(usize)) {
+        let cell = self.grid.cell[i];
+        match self.d[i].span {
+            0 => self.grid.for_each_near(cell, &mut f),
+            span => self.grid.for_each_within(cell, span, &mut f),
+        }
+        for &j in &self.large {
+            f(j as usize);
+        }
     }
 
     /// Disc `i`'s centre at time `t` on its current flight (not wrapped).

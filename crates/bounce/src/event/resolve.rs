@@ -27,8 +27,12 @@ impl EventDriven {
             self.d[i].x[axis] += shift as f64 * self.size[axis];
             self.image[i][axis] -= shift;
         }
-        self.grid.remove(i);
-        self.grid.insert(i, cell);
+        if self.d[i].span == 0 {
+            self.grid.remove(i);
+            self.grid.insert(i, cell);
+        } else {
+            self.grid.place(i, cell);
+        }
         self.predict(i);
     }
 

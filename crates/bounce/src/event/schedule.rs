@@ -43,7 +43,7 @@ impl EventDriven {
             }
         }
         let grid = &self.grid;
-        grid.for_each_near(cell, |j| {
+        self.for_each_near(i, |j| {
             if j == i {
                 return;
             }
