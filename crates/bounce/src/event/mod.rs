@@ -520,21 +520,6 @@ impl EventDriven {
         self.size[0] * self.size[1]
     }
 
-    /// Calls `f` with every disc `i` may meet before it leaves its cell (`i` itself
-    /// included): an ordinary disc, the discs listed in the 3 × 3 cells around it; a large
-    /// one, those in the cells its reach spans; both, every large disc.
-    #[inline]
-    pub(super) fn for_each_near(&self, i: usize, mut f: impl FnMut(usize)) {
-        let cell = self.grid.cell[i];
-        match self.d[i].span {
-            0 => self.grid.for_each_near(cell, &mut f),
-            span => self.grid.for_each_within(cell, span, &mut f),
-        }
-        for &j in &self.large {
-            f(j as usize);
-        }
-    }
-
     /// Disc `i`'s centre at time `t` on its current flight (not wrapped).
     #[inline]
     pub(super) fn at(&self, i: usize, t: f64) -> [f64; 2] {

@@ -9,6 +9,21 @@ use super::predict::{contact_time, fall_to, point_contact, rise_to};
 use super::{EventDriven, Kind, NOTHING, Next, sub};
 
 impl EventDriven {
+    /// Calls `f` with every disc `i` may meet before it leaves its cell (`i` itself
+    /// included): an ordinary disc, the discs listed in the 3 × 3 cells around it; a large
+    /// one, those in the cells its reach spans; both, every large disc.
+    #[inline]
+    pub(super) fn for_each_near(&self, i: usize, mut f: impl FnMut(usize)) {
+        let cell = self.grid.cell[i];
+        match self.d[i].span {
+            0 => self.grid.for_each_near(cell, &mut f),
+            span => self.grid.for_each_within(cell, span, &mut f),
+        }
+        for &j in &self.large {
+            f(j as usize);
+        }
+    }
+
     /// Predicts disc `i`'s next event from its state now (its `time` is now) and puts it in
     /// its slot: its crossing, a wall, a disc near, an obstacle near, whichever first.
     pub(super) fn predict(&mut self, i: usize) {
