@@ -139,35 +139,55 @@ fn stats_csv_has_the_documented_columns_and_rows() {
     assert!(rows.iter().all(|r| r[12] == 62.0));
 }
 
-#[test]
-fn an_event_driven_run_reports_collisions_per_second_and_the_exact_pressure() {
-    let s = Scratch::new();
-    let scenario = s.path("hard.toml");
-    let (code, _, stderr) = output(bounce().args(["new", "hard-discs", "--out"]).arg(&scenario));
+/// Writes template `name`, runs it for `steps` steps with the arguments `extra` as well,
+/// and returns the run's stdout, stats.csv's header and its last row.
+fn run_template(
+    s: &Scratch,
+    name: &str,
+    steps: &str,
+    extra: &[&str],
+) -> (String, Vec<String>, Vec<f64>) {
+    let scenario = s.path(&format!("{name}.toml"));
+    let (code, _, stderr) = output(bounce().args(["new", name, "--out"]).arg(&scenario));
     assert_eq!(code, 0, "{stderr}");
     let (code, stdout, stderr) = output(
         bounce()
             .arg("run")
             .arg(&scenario)
-            .args(["--steps", "100", "--out"])
+            .args(["--steps", steps])
+            .args(extra)
+            .arg("--out")
             .arg(s.path("out")),
     );
     assert_eq!(code, 0, "{stderr}");
-    assert!(stdout.contains("collisions/s"), "{stdout}");
-    assert!(
-        stdout.contains("event-driven, every collision exact"),
-        "{stdout}"
-    );
     let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let last: Vec<f64> = text
+    let header = text
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    let last = text
         .lines()
         .last()
         .unwrap()
         .split(',')
         .map(|v| v.parse().unwrap_or(f64::NAN))
         .collect();
+    (stdout, header, last)
+}
+
+#[test]
+fn an_event_driven_run_reports_collisions_per_second_and_the_exact_pressure() {
+    let s = Scratch::new();
+    let (stdout, header, last) = run_template(&s, "hard-discs", "100", &[]);
+    let at = |name: &str| header.iter().position(|h| h == name).unwrap();
+    assert!(stdout.contains("collisions/s"), "{stdout}");
+    assert!(
+        stdout.contains("event-driven, every collision exact"),
+        "{stdout}"
+    );
     // Z = P A / (N kT) near Monte Carlo's 4.106 (one row of 1 time unit: within 5 %).
     let area = 56.049_912_163_979_28f64.powi(2);
     let z = last[at("pressure")] * area / (2000.0 * last[at("temperature")]);
@@ -179,27 +199,9 @@ fn an_event_driven_run_reports_collisions_per_second_and_the_exact_pressure() {
 #[test]
 fn a_piston_run_reports_its_force_position_and_work() {
     let s = Scratch::new();
-    let scenario = s.path("piston.toml");
-    let (code, _, stderr) = output(bounce().args(["new", "piston", "--out"]).arg(&scenario));
-    assert_eq!(code, 0, "{stderr}");
-    let (code, _, stderr) = output(
-        bounce()
-            .arg("run")
-            .arg(&scenario)
-            .args(["--steps", "2000", "--quiet", "--out"])
-            .arg(s.path("out")),
-    );
-    assert_eq!(code, 0, "{stderr}");
+    let (_, header, last) = run_template(&s, "piston", "2000", &["--quiet"]);
+    let at = |name: &str| header.iter().position(|h| h == name).unwrap();
     let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let last: Vec<f64> = text
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .map(|v| v.parse().unwrap_or(f64::NAN))
-        .collect();
     // 2000 steps of 0.02 at 0.05 down from y = 50.
     assert!((last[at("piston_y")] - 48.0).abs() < 1e-9);
     assert!(
