@@ -71,13 +71,6 @@ fn resting_contacts_name(m: RestingContacts) -> &'static str {
     }
 }
 
-fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::TimeStepped => "time_stepped",
-        Method::EventDriven => "event_driven",
-    }
-}
-
 fn velocity_update_name(m: VelocityUpdate) -> &'static str {
     match m {
         VelocityUpdate::AllDetected => "all_detected",
@@ -354,7 +347,7 @@ impl Config {
     /// ``"time_stepped"`` (the seed's loop) or ``"event_driven"`` (exact hard discs).
     #[getter]
     fn method(&self) -> &'static str {
-        method_name(self.inner.method)
+        self.inner.method.name()
     }
 
     /// The event-driven TC model's ``t_c`` (0: off).

@@ -165,11 +165,8 @@ impl Session {
     /// time-stepped one leaves, which exact hard discs cannot have. What the scenario asks
     /// that the method cannot do is the error, naming the field.
     pub fn restart_with_method(&mut self, method: bounce::Method) -> Result<(), String> {
-        let name = match method {
-            bounce::Method::TimeStepped => "time_stepped",
-            bounce::Method::EventDriven => "event_driven",
-        };
-        let text = crate::overrides::apply(&self.text, &[format!("time.method={name}")], None)?;
+        let set = format!("time.method={}", method.name());
+        let text = crate::overrides::apply(&self.text, &[set], None)?;
         let threads = self.world.threads();
         *self = Session::from_text_in(
             &self.origin,

@@ -21,6 +21,16 @@ pub enum Method {
     EventDriven,
 }
 
+impl Method {
+    /// The name scenario files and Python use: `time_stepped` or `event_driven`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TimeStepped => "time_stepped",
+            Method::EventDriven => "event_driven",
+        }
+    }
+}
+
 impl Config {
     /// What in this configuration the event-driven method cannot do (`None`: it can do it
     /// all), as the end of a sentence that starts "the event-driven method".

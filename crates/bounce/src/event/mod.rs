@@ -98,8 +98,6 @@ pub struct Observed {
     pub wall_impulse: [f64; 4],
     /// The momentum each obstacle took.
     pub obstacle_impulses: Vec<[f64; 2]>,
-    /// Discs meeting a wall or an obstacle.
-    pub bounces: u64,
 }
 
 /// One disc's flight as the engine reads it in prediction: one cache line.
@@ -564,15 +562,15 @@ impl EventDriven {
         }
         // Name the discs of the next few events.
         let mut discs = vec![i];
-        let mut scan = self.clone();
+        let mut calendar = self.calendar.clone();
         for _ in 0..64 {
-            let Some((k, _)) = scan.calendar.first() else {
+            let Some((k, _)) = calendar.first() else {
                 break;
             };
             if !discs.contains(&k) {
                 discs.push(k);
             }
-            scan.calendar.set(k, f64::INFINITY);
+            calendar.set(k, f64::INFINITY);
         }
         let mut discs: Vec<usize> = discs.into_iter().map(|k| self.order[k] as usize).collect();
         discs.sort_unstable();

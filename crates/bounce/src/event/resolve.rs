@@ -58,7 +58,6 @@ impl EventDriven {
         // The wall's side in `Observed` order: left, right, bottom, top.
         let wall = 2 * axis + side.is_multiple_of(2) as usize;
         self.observed.wall_impulse[wall] += self.d[i].mass * (after - v).abs();
-        self.observed.bounces += 1;
         self.d[i].v[axis] = after;
         self.d[i].count = self.d[i].count.wrapping_add(1);
         self.last[i] = self.now;
@@ -90,7 +89,6 @@ impl EventDriven {
                 impulse[1] -= self.d[i].mass * dv * n[1];
             }
         }
-        self.observed.bounces += 1;
         self.d[i].count = self.d[i].count.wrapping_add(1);
         self.last[i] = self.now;
         self.predict(i);
