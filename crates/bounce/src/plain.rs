@@ -6,8 +6,9 @@
 //! colliding pair through a plain grid, sorts the pairs into the canonical order and resolves
 //! them one after the other through the law, then meets the walls and the obstacles. It shares
 //! with the fast step only the rules themselves (the law, the geometry's walls and wrap, the
-//! obstacles' `collide` and `uncross`, the canonical order's key) and what surrounds the
-//! substeps (emitters, sinks, measurement).
+//! obstacles' `collide` and `uncross`, the canonical order's key, the law applied to pairs
+//! one after another: `resolve::resolve_in_order`) and what surrounds the substeps
+//! (emitters, sinks, measurement).
 //!
 //! It is the reference: a property test (`tests/plain_step.rs`) steps random worlds with
 //! both and requires the same state bits, so a change to a kernel that moves one bit fails
@@ -27,13 +28,12 @@ use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
-use crate::law::{
-    Body, Disc, Law, Rough, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
-};
-use crate::obstacles::{self, Impacts, Met, uncross};
+use crate::law::{Disc, Law, Rough, collide, reflect, resting_speed, rub_walls, touch_walls};
+use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
+use crate::resolve::resolve_in_order;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
-use crate::sum::{ExactSum, StepSums, WallSums};
+use crate::sum::{StepSums, WallSums};
 use crate::world::{StepError, Substepped, World};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
@@ -107,12 +107,18 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 stats.pairs += contacts.len();
                 stats.max_overlap = stats.max_overlap.max(max_overlap);
             }
-            let (virial, impacts, friction) =
-                resolve(p, &contacts, &rules, &rules.law.for_pass(pass));
-            sums.virial.merge(&virial);
-            sums.friction.merge(&friction);
+            let resolved = resolve_in_order(
+                p,
+                contacts.iter().map(|c| (c.a, c.b)),
+                &rules.law.for_pass(pass),
+                &rules.geometry,
+                (rules.resting_speed, None),
+                |_, _| {},
+            );
+            sums.virial.merge(&resolved.virial);
+            sums.friction.merge(&resolved.friction);
             if pass == 0 {
-                stats.collisions += impacts;
+                stats.collisions += resolved.impacts;
             }
             if has_obstacles {
                 let impacts = meet_obstacles(p, trail.as_deref_mut(), &shapes, states, &rules);
@@ -339,56 +345,6 @@ fn for_each_near_pair(
     }
 }
 
-/// The seed's steps 1–7 for each contact in order, on the current state (a disc pushed by
-/// one pair is seen at its new place by the next), and rough discs' friction; walls hold
-/// after each push. Returns the collision virial `Σ r_ab · Δp_ab`, summed exactly, the
-/// impacts, and the energy friction removed, summed exactly.
-fn resolve(
-    p: &mut Particles,
-    contacts: &[Contact],
-    rules: &Rules,
-    law: &Law,
-) -> (ExactSum, usize, ExactSum) {
-    let min_image = rules.geometry.min_image();
-    let mut virial = ExactSum::new();
-    let mut friction = ExactSum::new();
-    let mut impacts = 0;
-    for &Contact { a, b, .. } in contacts {
-        let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
-        let body = |i: usize| Body {
-            velocity: [p.vx[i], p.vy[i]],
-            radius: p.radius[i],
-            mass: rules.mass(p, i),
-            angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
-        };
-        let (one, two) = (body(a), body(b));
-        let out = law.resolve(diff, &one, &two);
-        // The pair's impulse: the antisymmetric part of the two momentum changes.
-        let impulse = [0, 1].map(|k| {
-            0.5 * (one.mass * (out.v1[k] - one.velocity[k])
-                - two.mass * (out.v2[k] - two.velocity[k]))
-        });
-        virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
-        impacts += is_impact(out.approach, rules.resting_speed) as usize;
-        p.x[a] += out.push[0];
-        p.y[a] += out.push[1];
-        p.x[b] -= out.push[0];
-        p.y[b] -= out.push[1];
-        for i in [a, b] {
-            let (mut x, mut y) = (p.x[i], p.y[i]);
-            rules.geometry.hold(&mut x, &mut y, p.radius[i]);
-            (p.x[i], p.y[i]) = (x, y);
-        }
-        [p.vx[a], p.vy[a]] = out.v1;
-        [p.vx[b], p.vy[b]] = out.v2;
-        if law.rough.is_some_and(|rough| rough.rubs_pairs()) {
-            (p.omega[a], p.omega[b]) = (out.w1, out.w2);
-            friction.add(out.friction_work);
-        }
-    }
-    (virial, impacts, friction)
-}
-
 /// Records disc `i`'s wall `hits` (of mass `m`) in `impulse`, and rough walls' friction on it.
 fn rub(
     p: &mut Particles,
@@ -462,13 +418,19 @@ fn meet_obstacles(
         }
         for &k in &rules.obstacle_order {
             let u = states[k].velocity;
-            let before = disc.velocity;
+            let (position, before) = (disc.position, disc.velocity);
             let (j, rubbed) = collide(&shapes[k], u, rules.surface[k], law, &mut disc);
             if j != [0.0, 0.0] {
                 if rubbed != 0.0 {
                     impacts.friction.add(rubbed);
                 }
-                impacts.list.push((k as u32, j));
+                impacts.list.push(Impact {
+                    obstacle: k as u32,
+                    disc: i as u32,
+                    momentum: j,
+                    position,
+                    velocity: before,
+                });
                 let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
                 impacts.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));
             }

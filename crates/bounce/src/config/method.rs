@@ -52,6 +52,9 @@ impl Config {
         if self.is_rough() {
             return Some("cannot be combined with rough discs (friction, rolling_resistance) yet");
         }
+        if self.contact_events {
+            return Some("cannot record contact_events yet (its collisions have no substeps)");
+        }
         if !self.emitters.is_empty() || !self.sinks.is_empty() {
             return Some("cannot be combined with emitters or sinks");
         }

@@ -113,6 +113,14 @@ pub struct Config {
     /// collisions in a finite time. Default `0`, off: every collision has its restitution.
     /// Finite and `>= 0`; the time-stepped method has no use for it.
     pub contact_duration: f64,
+    /// Record contact events: each step, the contacts that began and ended in each of its
+    /// substeps ([`crate::World::contact_events`], [`crate::ContactEvent`]). Default
+    /// `false`: nothing is recorded and the step does no work for it.
+    pub contact_events: bool,
+    /// The smallest normal impulse a contact's `begin` event reports (and so its `end`):
+    /// contacts that begin more gently are followed but not reported, as a game that plays
+    /// a sound only for hard impacts wants. Default `0`, every contact. Finite and `>= 0`.
+    pub contact_event_threshold: f64,
     /// Segments and pegs the discs collide with, fixed or moving (see [`Obstacle`]).
     /// Default none. Their impulses are reported by [`crate::World::obstacle_impulses`].
     pub obstacles: Vec<Obstacle>,
@@ -146,6 +154,8 @@ impl Default for Config {
             inertia_factor: 0.5,
             method: Method::TimeStepped,
             contact_duration: 0.0,
+            contact_events: false,
+            contact_event_threshold: 0.0,
             obstacles: Vec::new(),
             emitters: Vec::new(),
             sinks: Vec::new(),
@@ -421,6 +431,13 @@ impl Config {
             err(
                 "contact_duration",
                 self.contact_duration.to_string(),
+                "must be finite and >= 0",
+            );
+        }
+        if !coefficient(self.contact_event_threshold) {
+            err(
+                "contact_event_threshold",
+                self.contact_event_threshold.to_string(),
                 "must be finite and >= 0",
             );
         }

@@ -12,6 +12,7 @@ use thiserror::Error;
 use crate::broadphase::Broadphase;
 use crate::config::{Config, ConfigError};
 use crate::config::{EmitterState, ObstacleState};
+use crate::contact_events::{ContactEvent, ContactLog};
 use crate::contacts::Contacts;
 use crate::geometry::Geometry;
 use crate::law::Law;
@@ -91,6 +92,9 @@ pub struct World {
     /// How many discs have been removed (sinks, `remove_particles`): ids run to
     /// `next_id = len + removed`, with gaps where removed ones were.
     removed: u32,
+    /// The last substep's contacts and the last step's contact events (with
+    /// [`Config::contact_events`]).
+    pub(crate) contact_log: ContactLog,
     /// Which emitter gave which ids: `[first id, count, emitter]`, ascending (runs of
     /// consecutive ids from one emitter are merged).
     emitted_ids: Vec<[u32; 3]>,
@@ -224,6 +228,7 @@ impl World {
             obstacle_radius: 0.0,
             emitter_states: vec![EmitterState::default(); emitter_count],
             removed: 0,
+            contact_log: ContactLog::default(),
             emitted_ids: Vec::new(),
             emitted_last_step: Vec::new(),
             contacts: Contacts::default(),
@@ -421,6 +426,37 @@ impl World {
         } else {
             fixed
         }
+    }
+
+    /// The contacts that began and ended in the last step's substeps, substep by substep,
+    /// each substep's in the order of the parties' ids (see [`ContactEvent`]); empty unless
+    /// [`Config::contact_events`] is on.
+    ///
+    /// ```
+    /// use bounce::{Config, ContactKind, Party, Particle, World};
+    /// let config = Config { contact_events: true, ..Config::default() };
+    /// let mut world = World::new(config).unwrap();
+    /// let a = world.add_particle(Particle::new([0.0, 0.0], [1.0, 0.0], 1.0)).unwrap();
+    /// let b = world.add_particle(Particle::new([2.5, 0.0], [0.0, 0.0], 1.0)).unwrap();
+    /// let mut begins: Vec<bounce::ContactEvent> = Vec::new();
+    /// for _ in 0..100 {
+    ///     world.step(0.01).unwrap();
+    ///     let events = world.contact_events().iter();
+    ///     begins.extend(events.filter(|e| e.kind == ContactKind::Begin));
+    /// }
+    /// // Equal masses at e = 1: the first stops, the second leaves at 1, an impulse of 1.
+    /// assert_eq!(begins.len(), 1);
+    /// assert_eq!((begins[0].a, begins[0].b), (a, Party::Disc(b)));
+    /// assert!((begins[0].normal_impulse - 1.0).abs() < 1e-12);
+    /// ```
+    pub fn contact_events(&self) -> &[ContactEvent] {
+        self.contact_log.events()
+    }
+
+    /// How many contacts the last substep had (a pair, a disc and a wall, a disc and an
+    /// obstacle), as contact events follow them; 0 unless [`Config::contact_events`] is on.
+    pub fn contacts_now(&self) -> usize {
+        self.contact_log.touching()
     }
 
     /// What the last step measured (energy and momentum are kept current when particles are

@@ -8,6 +8,7 @@ use crate::broadphase::{Broadphase, Reference};
 use crate::config::Config;
 use crate::config::EmitterState;
 use crate::config::ObstacleState;
+use crate::contact_events::ContactLog;
 use crate::geometry::Geometry;
 use crate::law::Law;
 use crate::particles::{Particle, Particles};
@@ -45,6 +46,7 @@ pub(super) struct WorldState {
     pub(super) friction_work: f64,
     pub(super) emitter_states: Vec<EmitterState>,
     pub(super) removed: u32,
+    pub(super) contact_log: ContactLog,
     pub(super) emitted_ids: Vec<[u32; 3]>,
 }
 
@@ -223,6 +225,10 @@ impl TryFrom<WorldState> for World {
             end = run_end;
         }
         world.emitted_ids = state.emitted_ids;
+        if let Some(problem) = state.contact_log.problem(state.next_id) {
+            return Err(WorldError::Inconsistent(format!("contact_log: {problem}")));
+        }
+        world.contact_log = state.contact_log;
         world.broadphase.reference = state.reference;
         world.particles = state.particles;
         if world.config.is_rough() {

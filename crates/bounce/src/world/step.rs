@@ -10,13 +10,14 @@
 use crate::broadphase::{self, Broadphase, Moved};
 use crate::config::Config;
 use crate::config::ObstacleState;
+use crate::contact_events::ContactLog;
 use crate::contacts::Contacts;
 use crate::context::StepContext;
 use crate::integrate::{integrate, turn};
-use crate::obstacles::{self, Met, Obstacles, Trail};
+use crate::obstacles::{self, Met, Obstacles, Trail, resolve_obstacles, take_impacts};
 use crate::part::Travel;
 use crate::particles::Particles;
-use crate::resolve::{resolve_all, resolve_walls};
+use crate::resolve::{resolve_all, resolve_in_order, resolve_walls, solver_order};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
 use crate::sum::StepSums;
 
@@ -53,6 +54,9 @@ impl World {
                 stages.resolve_pairs(pass, &mut done);
                 stages.meet_obstacles(&mut done);
                 stages.hold_walls(&mut done);
+            }
+            if let Some(log) = stages.log.as_deref_mut() {
+                log.end_substep(substep, stages.config.contact_event_threshold);
             }
         }
         self.finish_step(dt, done)
@@ -196,6 +200,8 @@ struct Stages<'w> {
     /// The last step's contacts per disc and substep (saved with the world, so a loaded one
     /// decides as the original does).
     contacts_per_disc: f64,
+    /// Where the substeps' contacts are reported, when the configuration asks for events.
+    log: Option<&'w mut ContactLog>,
 }
 
 impl<'w> Stages<'w> {
@@ -215,8 +221,13 @@ impl<'w> Stages<'w> {
             exec,
             tally,
             order_radius,
+            contact_log,
             ..
         } = world;
+        let log = config.contact_events.then(|| {
+            contact_log.start_step();
+            contact_log
+        });
         let obstacles = obstacles.as_mut().expect("prepared");
         let mut ctx = StepContext::new(config, h, exec, *tally);
         ctx.order_radius = *order_radius;
@@ -232,6 +243,7 @@ impl<'w> Stages<'w> {
             trail,
             travel,
             contacts_per_disc,
+            log,
         }
     }
 
@@ -251,6 +263,9 @@ impl<'w> Stages<'w> {
 
     /// Gravity, drift and the walls, with how far each disc got from its reference.
     fn integrate(&mut self, done: &mut Substepped) -> Moved {
+        if let Some(log) = self.log.as_deref_mut() {
+            log.before_walls(self.particles, &self.ctx.geometry);
+        }
         let bp = &self.broadphase;
         let mut moved = integrate(self.particles, &self.ctx, &bp.reference, bp.radius_bound());
         if self.particles.turning {
@@ -259,6 +274,11 @@ impl<'w> Stages<'w> {
         // A disc sent back across a segment returns to where it was, which for a stray of
         // the last substep is past the allowance: with segments, no strays are kept.
         moved.too_many_strays |= self.follow && !moved.strays.is_empty();
+        if let Some(log) = self.log.as_deref_mut() {
+            let [gx, gy] = self.ctx.gravity;
+            let fall = [gx * self.ctx.h, gy * self.ctx.h];
+            log.see_walls(self.particles, &self.ctx.geometry, &self.ctx.law, fall);
+        }
         done.sums.walls.merge(&moved.impulse);
         done.profile.integrate += done.clock.lap();
         moved
@@ -267,16 +287,7 @@ impl<'w> Stages<'w> {
     /// Discs that flew through a segment in this substep go back.
     fn send_back_crossings(&mut self, done: &mut Substepped) {
         if self.follow {
-            obstacles::meet(
-                self.particles,
-                Some(self.trail),
-                self.obstacles,
-                self.obstacle_states,
-                self.config,
-                &self.ctx,
-                &mut done.met,
-            );
-            done.profile.obstacles += done.clock.lap();
+            self.meet(true, done);
         }
     }
 
@@ -336,7 +347,18 @@ impl<'w> Stages<'w> {
             law: self.ctx.law.for_pass(pass),
             ..self.ctx
         };
-        let resolved = resolve_all(self.contacts, self.particles, &ctx, uniform);
+        let resolved = match self.log.as_deref_mut() {
+            None => resolve_all(self.contacts, self.particles, &ctx, uniform),
+            // One contact at a time, each reported (the same bits: `solver_order`).
+            Some(log) => resolve_in_order(
+                self.particles,
+                solver_order(self.contacts),
+                &ctx.law,
+                &ctx.geometry,
+                (ctx.resting_speed, ctx.tally),
+                |p, pair| log.see_pair(p, pair),
+            ),
+        };
         done.sums.virial.merge(&resolved.virial);
         done.sums.friction.merge(&resolved.friction);
         if pass == 0 {
@@ -349,26 +371,49 @@ impl<'w> Stages<'w> {
     /// impulses.
     fn meet_obstacles(&mut self, done: &mut Substepped) {
         if !self.obstacles.is_empty() {
-            obstacles::meet(
-                self.particles,
-                self.follow.then_some(&mut *self.trail),
+            self.meet(self.follow, done);
+        }
+    }
+
+    /// One obstacle pass (`follow`: along the trail), its impacts reported when asked.
+    fn meet(&mut self, follow: bool, done: &mut Substepped) {
+        let trail = follow.then_some(&mut *self.trail);
+        let (p, ctx) = (&mut *self.particles, &self.ctx);
+        match self.log.as_deref_mut() {
+            None => obstacles::meet(
+                p,
+                trail,
                 self.obstacles,
                 self.obstacle_states,
                 self.config,
-                &self.ctx,
+                ctx,
                 &mut done.met,
-            );
-            done.profile.obstacles += done.clock.lap();
+            ),
+            Some(log) => {
+                let impacts =
+                    resolve_obstacles(p, trail, self.obstacles, self.obstacle_states, ctx);
+                let states = &*self.obstacle_states;
+                let shapes = self.obstacles.shapes();
+                log.see_obstacles(p, &impacts.list, shapes, |k| states[k].velocity);
+                take_impacts(impacts, self.config, self.obstacle_states, &mut done.met);
+            }
         }
+        done.profile.obstacles += done.clock.lap();
     }
 
     /// With several solver passes, the pushes may carry discs past a wall: they are held
     /// (integration holds them in the first).
     fn hold_walls(&mut self, done: &mut Substepped) {
         if self.config.solver_iterations > 1 {
+            if let Some(log) = self.log.as_deref_mut() {
+                log.before_walls(self.particles, &self.ctx.geometry);
+            }
             done.sums
                 .walls
                 .merge(&resolve_walls(self.particles, &self.ctx));
+            if let Some(log) = self.log.as_deref_mut() {
+                log.see_walls(self.particles, &self.ctx.geometry, &self.ctx.law, [0.0; 2]);
+            }
             done.profile.walls += done.clock.lap();
         }
     }

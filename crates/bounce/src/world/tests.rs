@@ -121,6 +121,7 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         friction_work: 0.0,
         emitter_states: Vec::new(),
         removed: 0,
+        contact_log: Default::default(),
         emitted_ids: Vec::new(),
     };
     let error = World::try_from(state).unwrap_err().to_string();

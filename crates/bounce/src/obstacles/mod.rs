@@ -21,7 +21,9 @@ use crate::geometry::MinImage;
 use crate::law::{Disc, Law, collide, nearest, reach_of, touches};
 use crate::parallel::{CHUNK, SharedSlice};
 use crate::particles::Particles;
-use crate::sum::ExactSum;
+
+mod impacts;
+pub(crate) use impacts::{Impact, Impacts, Met, meet, take_impacts};
 
 /// The obstacles in the form the step uses: the current shapes, the restitutions and
 /// frictions, and the
@@ -61,6 +63,11 @@ struct Grid {
 const MAX_CELLS: f64 = 4e6;
 
 impl Obstacles {
+    /// Each obstacle's shape where it is now, by index.
+    pub(crate) fn shapes(&self) -> &[Shape] {
+        &self.shapes
+    }
+
     /// The obstacles of `config` with the moving ones at `states`, binned for discs of radius
     /// up to `max_radius`.
     pub(crate) fn new(config: &Config, states: &[ObstacleState], max_radius: f64) -> Obstacles {
@@ -224,84 +231,6 @@ impl Grid {
     }
 }
 
-/// What one pass of [`resolve_obstacles`] gave the obstacles.
-#[derive(Debug, Default)]
-pub(crate) struct Impacts {
-    /// `(obstacle, momentum)` per collision, in chunk order, then disc order.
-    pub list: Vec<(u32, [f64; 2])>,
-    /// Work done on the discs by moving obstacles, `Σ J_disc · u`, summed exactly.
-    pub work: ExactSum,
-    /// The energy friction at the obstacles removed (rough discs), summed exactly.
-    pub friction: ExactSum,
-}
-
-/// What the obstacles received over a step: the momentum of each, and the work moving ones
-/// did on the discs.
-#[derive(Debug)]
-pub(crate) struct Met {
-    pub impulses: Vec<[f64; 2]>,
-    pub work: f64,
-    /// The energy their friction removed.
-    pub friction: ExactSum,
-}
-
-impl Met {
-    /// Nothing yet, for `count` obstacles.
-    pub(crate) fn new(count: usize) -> Met {
-        Met {
-            impulses: vec![[0.0; 2]; count],
-            work: 0.0,
-            friction: ExactSum::new(),
-        }
-    }
-}
-
-/// One obstacle pass ([`resolve_obstacles`]) and its bookkeeping: the momentum each obstacle
-/// received and the work of moving ones go into `met`, and a driven obstacle takes the
-/// discs' momentum into its velocity at once (for the next pass). Each obstacle's impulses
-/// of the pass are summed exactly, so its velocity does not depend on the order the discs
-/// are stored in (which changes when the candidates are listed anew).
-pub(crate) fn meet(
-    p: &mut Particles,
-    trail: Option<&mut Trail>,
-    obstacles: &Obstacles,
-    states: &mut [ObstacleState],
-    config: &Config,
-    ctx: &StepContext,
-    met: &mut Met,
-) {
-    let impacts = resolve_obstacles(p, trail, obstacles, states, ctx);
-    take_impacts(impacts, config, states, met);
-}
-
-/// The bookkeeping of one obstacle pass's `impacts` (see [`meet`]).
-pub(crate) fn take_impacts(
-    mut impacts: Impacts,
-    config: &Config,
-    states: &mut [ObstacleState],
-    met: &mut Met,
-) {
-    met.work += impacts.work.value();
-    met.friction.merge(&impacts.friction);
-    impacts.list.sort_by_key(|&(k, _)| k);
-    for hits in impacts.list.chunk_by(|a, b| a.0 == b.0) {
-        let k = hits[0].0 as usize;
-        let j = [0, 1].map(|axis| {
-            let mut sum = ExactSum::new();
-            for (_, j) in hits {
-                sum.add(j[axis]);
-            }
-            sum.value()
-        });
-        met.impulses[k][0] += j[0];
-        met.impulses[k][1] += j[1];
-        if let Motion::Driven { mass, .. } = config.obstacles[k].motion {
-            states[k].velocity[0] += j[0] / mass;
-            states[k].velocity[1] += j[1] / mass;
-        }
-    }
-}
-
 /// Where each disc was when it was last known to be on the right side of every segment, in
 /// storage order: the start of a path that must not cross one.
 #[derive(Debug, Default)]
@@ -424,7 +353,7 @@ pub(crate) fn resolve_obstacles(
             };
             for &o in near.iter().chain(&obstacles.moving) {
                 let u = velocities[o as usize];
-                let before = disc.velocity;
+                let (position, before) = (disc.position, disc.velocity);
                 let shape = &obstacles.shapes[o as usize];
                 let surface = obstacles.surface[o as usize];
                 let (j, rubbed) = collide(shape, u, surface, law, &mut disc);
@@ -432,7 +361,13 @@ pub(crate) fn resolve_obstacles(
                     if rubbed != 0.0 {
                         out.friction.add(rubbed);
                     }
-                    out.list.push((o, j));
+                    out.list.push(Impact {
+                        obstacle: o,
+                        disc: i as u32,
+                        momentum: j,
+                        position,
+                        velocity: before,
+                    });
                     // The work of the obstacle on the disc: the disc's impulse along `u`.
                     let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
                     out.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));
