@@ -172,6 +172,7 @@ fn check_supported(session: &Session) -> Result<()> {
             config.method == bounce::Method::EventDriven,
             "time.method = \"event_driven\"",
         ),
+        (config.contact_events, "[output] events"),
     ];
     for (present, what) in refused {
         if present {

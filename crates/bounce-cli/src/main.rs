@@ -3,6 +3,7 @@
 mod checkpoint;
 #[cfg(feature = "mpi")]
 mod distributed;
+mod events_csv;
 mod plots;
 mod render;
 mod run;

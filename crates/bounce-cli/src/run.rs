@@ -21,6 +21,7 @@ use bounce_scenario::checkpoint::RunState;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
+use crate::events_csv::EventsCsv;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
 use crate::stats_csv::{ScenarioColumns, StatsCsv, Totals, read_history};
@@ -383,6 +384,8 @@ pub(crate) struct Outputs {
     /// frame files at the end).
     gif: Option<GifWriter>,
     gsd: Option<GsdWriter>,
+    /// `events.csv`, with `[output] events`.
+    events: Option<EventsCsv>,
     total_mass: f64,
     /// The last step each of stats, frames and GSD was written at, so a stop does not write
     /// a step twice.
@@ -436,6 +439,9 @@ impl Outputs {
             gsd,
             total_mass,
         )?;
+        if outputs.schedule.output.events {
+            outputs.events = Some(EventsCsv::create(dir, session)?);
+        }
         outputs.gif = match (&outputs.painter, outputs.schedule.output.gif) {
             (Some(p), true) => Some(GifWriter::create(&dir.join("animation.gif"), p.size())?),
             _ => None,
@@ -477,6 +483,9 @@ impl Outputs {
             }
         }
         let mut outputs = Self::open(session, dir, schedule, stats, gsd, total_mass)?;
+        if outputs.schedule.output.events {
+            outputs.events = Some(EventsCsv::resume(dir, session, k)?);
+        }
         outputs.recorded = [Some(k); 3];
         Ok(outputs)
     }
@@ -514,6 +523,7 @@ impl Outputs {
             painter,
             gif: None,
             gsd,
+            events: None,
             recorded: [None; 3],
             emitted: session.emitted.clone(),
             piston: piston_of(session),
@@ -532,6 +542,9 @@ impl Outputs {
             if let Some(gsd) = &mut self.gsd {
                 gsd.set_type(id.0 as usize, kind);
             }
+        }
+        if let Some(events) = &mut self.events {
+            events.step(world, self.dt)?;
         }
         let step = world.step_count();
         let spec = self.schedule.output.clone();
@@ -599,6 +612,9 @@ impl Outputs {
     fn finish_at(self, world: &World, totals: RunState) -> Result<()> {
         checkpoint::save(world, Some(&totals), &self.dir.join("checkpoint.bin"))?;
         self.stats.finish()?;
+        if let Some(events) = self.events {
+            events.finish()?;
+        }
         if let Some(gsd) = self.gsd {
             gsd.finish()?;
         }

@@ -197,6 +197,58 @@ fn an_event_driven_run_reports_collisions_per_second_and_the_exact_pressure() {
 }
 
 #[test]
+fn events_csv_is_the_same_on_any_thread_count_and_continues_on_resume() {
+    let s = Scratch::new();
+    let scenario = s.path("gas.toml");
+    let (code, _, stderr) = output(bounce().args(["new", "gas", "--out"]).arg(&scenario));
+    assert_eq!(code, 0, "{stderr}");
+    let run = |out: &str, extra: &[&str]| {
+        let (code, _, stderr) = output(
+            bounce()
+                .arg("run")
+                .arg(&scenario)
+                .args(["--set", "output.events=true", "--quiet", "--out"])
+                .arg(s.path(out))
+                .args(extra),
+        );
+        assert_eq!(code, 0, "{stderr}");
+        std::fs::read(s.path(out).join("events.csv")).unwrap()
+    };
+    // The template's 2,000-disc gas.
+    let one = run("one", &["--steps", "40", "--threads", "1"]);
+    for threads in ["2", "3"] {
+        let other = run(threads, &["--steps", "40", "--threads", threads]);
+        assert!(one == other, "events.csv differs on {threads} threads");
+    }
+    run("resumed", &["--steps", "15", "--threads", "2"]);
+    let checkpoint = s.path("resumed/checkpoint.bin");
+    let resumed = run(
+        "resumed",
+        &["--steps", "40", "--resume", checkpoint.to_str().unwrap()],
+    );
+    assert!(one == resumed, "a resumed events.csv differs");
+    let text = String::from_utf8(one).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,time,kind,a,b,x,y,nx,ny,normal_impulse,tangent_impulse,approach_speed")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.len() > 1000, "{} rows", rows.len());
+    let walls = rows.iter().filter(|r| r[4].starts_with("wall:")).count();
+    let begins = rows.iter().filter(|r| r[2] == "begin").count();
+    let ends = rows.iter().filter(|r| r[2] == "end").count();
+    assert!(walls > 0 && begins > 0 && ends > 0);
+    // Steps ascend; every begin's normal impulse is finite and >= 0.
+    let steps: Vec<u64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    assert!(steps.windows(2).all(|w| w[0] <= w[1]) && steps[steps.len() - 1] == 40);
+    for r in rows.iter().filter(|r| r[2] == "begin") {
+        let j: f64 = r[9].parse().unwrap();
+        assert!(j.is_finite() && j >= 0.0, "{r:?}");
+    }
+}
+
+#[test]
 fn a_piston_run_reports_its_force_position_and_work() {
     let s = Scratch::new();
     let (_, header, last) = run_template(&s, "piston", "2000", &["--quiet"]);
@@ -535,6 +587,12 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
             "[world]\nboundary = \"open\"\n[[disc]]\nposition = [0.0, 0.0]\nradius = 1.0\n"
                 .to_string(),
             vec!["time"],
+        ),
+        (
+            "negative events threshold",
+            minimal("", "dt = 0.1\nsteps = 5", ONE_DISC)
+                + "[output]\nevents = true\nevents_threshold = -2.0\n",
+            vec![":15:", "output.events_threshold = -2", ">= 0"],
         ),
         (
             "box inverted",

@@ -321,6 +321,25 @@ fn a_bad_scenario_is_reported_once_and_every_rank_exits() {
 }
 
 #[test]
+fn contact_events_are_refused_across_ranks_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        Some(2),
+        "gas.toml",
+        &dir.path().join("out"),
+        &sets(&["output.events=true"]),
+    );
+    assert!(!out.status.success());
+    assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("[output] events is not supported across MPI ranks yet"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out/events.csv").exists());
+}
+
+#[test]
 fn a_panic_on_one_rank_aborts_the_job() {
     let dir = tempfile::tempdir().unwrap();
     let mut command = Command::new("timeout");

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! "BOUNCE-CHECKPOINT\n"   18 bytes
-//! version                u32 LE (7)
+//! version                u32 LE (8)
 //! payload length         u64 LE
 //! checksum               u64 LE: FNV-1a 64 of the payload
 //! fingerprint            u64 LE: FNV-1a 64 of the configuration and the particle count
@@ -22,8 +22,10 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// fingerprint and the run's output state; version 4 the contacts beside the collisions in it;
 /// version 5 the configuration's `resting_contacts`; version 6 rough discs (friction in the
 /// configuration, the discs' angular velocities and orientations, the friction work);
-/// version 7 the configuration's `method` and `contact_duration` (event-driven runs).
-const VERSION: u32 = 7;
+/// version 7 the configuration's `method` and `contact_duration` (event-driven runs);
+/// version 8 contact events (the configuration's switch and threshold, the world's last
+/// substep's contacts).
+const VERSION: u32 = 8;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -227,6 +229,8 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         inertia_factor,
         method,
         contact_duration,
+        contact_events,
+        contact_event_threshold,
         obstacles,
         emitters,
         sinks,
@@ -288,6 +292,12 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         f(&b.rolling_resistance),
     );
     differ("inertia_factor", f(inertia_factor), f(&b.inertia_factor));
+    differ("contact_events", f(contact_events), f(&b.contact_events));
+    differ(
+        "contact_event_threshold",
+        f(contact_event_threshold),
+        f(&b.contact_event_threshold),
+    );
     differ("emitters", f(emitters), f(&b.emitters));
     differ("sinks", f(sinks), f(&b.sinks));
     if obstacles != &b.obstacles {

@@ -481,6 +481,11 @@ pub struct OutputSpec {
     /// The region frames show; default the box (or, in an open world, the particles' extent
     /// at the start).
     pub view: Option<RegionSpec>,
+    /// Record contact events and write every step's to `events.csv`; default false.
+    pub events: bool,
+    /// The smallest normal impulse a contact's `begin` (and so its `end`) is written with;
+    /// default 0, every contact.
+    pub events_threshold: f64,
 }
 
 impl Default for OutputSpec {
@@ -495,6 +500,8 @@ impl Default for OutputSpec {
             color_by: None,
             plots: true,
             view: None,
+            events: false,
+            events_threshold: 0.0,
         }
     }
 }
@@ -767,6 +774,8 @@ impl Scenario {
             max_travel: self.time.max_travel,
             method: self.time.method,
             contact_duration: self.time.contact_duration,
+            contact_events: self.output.events,
+            contact_event_threshold: self.output.events_threshold,
             boundary: match w.boundary {
                 BoundaryKind::Walls => Boundary::Walls {
                     min,
@@ -975,6 +984,13 @@ impl Scenario {
                 at(
                     line,
                     format!("{what} #{}: {value}: {}", table + 1, e.expected),
+                );
+                continue;
+            }
+            if e.field == "contact_event_threshold" {
+                at(
+                    line_of_key(source, "output", "events_threshold"),
+                    format!("output.events_threshold = {}: {}", e.value, e.expected),
                 );
                 continue;
             }

@@ -290,7 +290,7 @@ fn the_configuration_checks_the_threshold_and_the_method() {
     };
     let err = exact.validate().unwrap_err();
     assert_eq!(err.field, "method");
-    assert!(err.to_string().contains("contact_events"), "{err}");
+    assert!(err.to_string().contains("contact events"), "{err}");
     // A removed disc's contacts end.
     let mut world = World::new(with_events(Config::default())).unwrap();
     let a = world

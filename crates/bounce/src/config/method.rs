@@ -53,7 +53,7 @@ impl Config {
             return Some("cannot be combined with rough discs (friction, rolling_resistance) yet");
         }
         if self.contact_events {
-            return Some("cannot record contact_events yet (its collisions have no substeps)");
+            return Some("cannot record contact events yet ([output] events, contact_events)");
         }
         if !self.emitters.is_empty() || !self.sinks.is_empty() {
             return Some("cannot be combined with emitters or sinks");
