@@ -37,8 +37,11 @@ use serde::de::IntoDeserializer;
 /// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`),
 /// ``method`` (``"time_stepped"``, the seed's loop, or ``"event_driven"``: exact hard discs,
 /// every collision at its moment of contact, ``dt`` only how often the world is observed)
-/// and ``contact_duration`` (the event-driven TC model's ``t_c``: a disc's collision within
-/// it of its last one is elastic; 0, off).
+/// ``contact_duration`` (the event-driven TC model's ``t_c``: a disc's collision within
+/// it of its last one is elastic; 0, off), ``contact_events`` (``True``: steps record the
+/// contacts that begin and end, ``World.contact_events()``; default ``False``) and
+/// ``contact_event_threshold`` (the smallest normal impulse a begin is reported with;
+/// default 0).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -180,6 +183,10 @@ impl Config {
                             option::<Method>(&key, &name, "\"time_stepped\", \"event_driven\"")?
                     }
                     "contact_duration" => c.contact_duration = typed(&key, v, "a number")?,
+                    "contact_events" => c.contact_events = typed(&key, v, "True or False")?,
+                    "contact_event_threshold" => {
+                        c.contact_event_threshold = typed(&key, v, "a number")?
+                    }
                     "friction" => c.friction = typed(&key, v, "a number")?,
                     "wall_friction" => c.wall_friction = typed(&key, v, "None or a number")?,
                     "tangential_restitution" => {
@@ -356,6 +363,18 @@ impl Config {
         self.inner.contact_duration
     }
 
+    /// Whether steps record contact events (``World.contact_events``).
+    #[getter]
+    fn contact_events(&self) -> bool {
+        self.inner.contact_events
+    }
+
+    /// The smallest normal impulse a contact's begin (and so its end) is reported with.
+    #[getter]
+    fn contact_event_threshold(&self) -> f64 {
+        self.inner.contact_event_threshold
+    }
+
     /// Coulomb's friction coefficient of disc–disc contacts (0: the seed's smooth discs).
     #[getter]
     fn friction(&self) -> f64 {
@@ -437,6 +456,12 @@ impl Config {
                 "method={:?}, contact_duration={:?}",
                 self.method(),
                 c.contact_duration
+            ));
+        }
+        if c.contact_events {
+            parts.push(format!(
+                "contact_events=True, contact_event_threshold={:?}",
+                c.contact_event_threshold
             ));
         }
         if !c.obstacles.is_empty() {

@@ -12,6 +12,7 @@
 use pyo3::prelude::*;
 
 mod config;
+mod events;
 mod gsd;
 mod obstacle;
 mod sources;

@@ -16,6 +16,7 @@ use pyo3::types::PyDict;
 use crate::obstacle::Obstacle;
 
 use crate::config::Config;
+use crate::events::Recorded;
 use crate::gsd::GsdWriter;
 
 /// A world of discs: the simulation.
@@ -41,6 +42,8 @@ pub struct World {
     views: Arc<AtomicUsize>,
     /// Trajectory writers fed by `step`.
     writers: Vec<Py<GsdWriter>>,
+    /// The contact events of the last `step` call's steps.
+    events: Recorded,
 }
 
 /// The message of a world error, as Python's `ValueError`.
@@ -118,6 +121,7 @@ impl World {
             typeid,
             views: Arc::new(AtomicUsize::new(0)),
             writers: Vec::new(),
+            events: Recorded::default(),
         }
     }
 
@@ -394,6 +398,7 @@ impl World {
                 "step() needs dt: this world has none (give World(..., dt=...) or step(dt=...))",
             )
         })?;
+        self.events.clear();
         for _ in 0..n {
             let world = self.world.get_mut().unwrap_or_else(|e| e.into_inner());
             py.detach(|| {
@@ -404,12 +409,28 @@ impl World {
                 }
             })
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            if world.config().contact_events {
+                self.events.add(world, dt);
+            }
             py.check_signals()?;
             if !self.writers.is_empty() {
                 self.feed_writers(py)?;
             }
         }
         Ok(())
+    }
+
+    /// The contact events of every step the last ``step()`` call took (with
+    /// ``Config(contact_events=True)``), as a NumPy structured array, one row an event in
+    /// order (step, substep, then the parties' ids): ``step``, ``time`` (the end of the
+    /// event's substep), ``substep``, ``kind`` (``"begin"`` or ``"end"``), ``a`` (a disc
+    /// id), ``b_kind`` (``"disc"``, ``"wall"`` or ``"obstacle"``) and ``b`` (a disc id;
+    /// a wall 0–3: left, right, bottom, top; an obstacle's index), ``x``, ``y`` (the
+    /// contact point), ``nx``, ``ny`` (the unit normal from ``a`` towards ``b``),
+    /// ``normal_impulse`` (what ``b`` gave ``a`` against the normal), ``tangent_impulse``
+    /// and ``approach_speed`` (0 for an end). The plain step reports none.
+    fn contact_events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.events.array(py)
     }
 
     /// The configuration.

@@ -37,7 +37,8 @@ use crate::sum::{StepSums, WallSums};
 use crate::world::{StepError, Substepped, World};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
-/// the state), the plain way. The world's fast-step lists are forgotten (the next
+/// the state), the plain way. It reports no contact events ([`World::contact_events`] is
+/// empty after it). The world's fast-step lists are forgotten (the next
 /// [`World::step`] lists anew).
 ///
 /// ```
@@ -63,6 +64,8 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     let substeps = world.check_substeps(dt, world.substeps_for(dt))?;
     let emitted = world.emit(dt);
     world.broadphase.invalidate();
+    // Contact events are the fast step's to report: a plain step reports none.
+    world.contact_log.start_step();
     let config = world.config.clone();
     let h = dt / substeps as f64;
     let rules = Rules::new(&config, h);

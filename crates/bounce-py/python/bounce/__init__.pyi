@@ -137,6 +137,8 @@ class Config:
         inertia_factor: float = ...,
         method: Literal["time_stepped", "event_driven"] = ...,
         contact_duration: float = ...,
+        contact_events: bool = ...,
+        contact_event_threshold: float = ...,
         obstacles: Sequence[Obstacle] = ...,
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
@@ -185,6 +187,10 @@ class Config:
     def method(self) -> Literal["time_stepped", "event_driven"]: ...
     @property
     def contact_duration(self) -> float: ...
+    @property
+    def contact_events(self) -> bool: ...
+    @property
+    def contact_event_threshold(self) -> float: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""
@@ -269,6 +275,11 @@ class World:
     def obstacle_impulses(self) -> npt.NDArray[np.float64]: ...
     @property
     def obstacle_work(self) -> float: ...
+    def contact_events(self) -> npt.NDArray[np.void]:
+        """The contact events of the last ``step()`` call's steps: a structured array with
+        fields step, time, substep, kind, a, b_kind, b, x, y, nx, ny, normal_impulse,
+        tangent_impulse, approach_speed."""
+        ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...
     @positions.setter

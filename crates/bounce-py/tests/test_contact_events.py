@@ -1,0 +1,71 @@
+"""Contact events from Python: World.contact_events() as a structured NumPy array."""
+
+import numpy as np
+import pytest
+
+import bounce
+
+
+def head_on(**options):
+    """Two discs of radius 1 (the seed's masses, 1 each), the second at rest."""
+    world = bounce.World(bounce.Config(contact_events=True, **options), dt=0.01)
+    world.add_discs([[0.0, 0.0], [2.5, 0.0]], [[1.0, 0.0], [0.0, 0.0]], 1.0)
+    return world
+
+
+def test_a_head_on_pair_begins_with_the_hand_impulse_and_ends():
+    world = head_on()
+    assert world.config.contact_events
+    world.step(100)
+    events = world.contact_events()
+    assert events.dtype.names[:5] == ("step", "time", "substep", "kind", "a")
+    assert list(events["kind"]) == ["begin", "end"]
+    begin, end = events
+    assert (begin["a"], begin["b_kind"], begin["b"]) == (0, "disc", 1)
+    # Equal masses at e = 1 swap: the first stops, the second takes 1.
+    assert begin["normal_impulse"] == pytest.approx(1.0, abs=1e-12)
+    assert (begin["nx"], begin["ny"]) == (1.0, 0.0)
+    assert begin["approach_speed"] == pytest.approx(1.0, abs=1e-15)
+    assert end["step"] == begin["step"] + 1
+    assert begin["time"] == pytest.approx(begin["step"] * 0.01)
+
+
+def test_events_cover_every_step_of_a_call_and_walls_and_obstacles():
+    config = bounce.Config(
+        contact_events=True,
+        boundary="walls",
+        min=(0, 0),
+        max=(10, 10),
+        obstacles=[bounce.Obstacle.peg((5.0, 8.0), 1.0)],
+    )
+    world = bounce.World(config, dt=0.01)
+    # Radius 0.5 (mass 0.5) at speed 2 into the left wall; one rising into the peg.
+    world.add_discs([[3.0, 2.0], [5.0, 3.0]], [[-2.0, 0.0], [0.0, 2.0]], 0.5)
+    world.step(300)
+    events = world.contact_events()
+    assert np.all(np.diff(events["step"].astype(np.int64)) >= 0)
+    wall = events[(events["b_kind"] == "wall") & (events["kind"] == "begin")][0]
+    assert (wall["a"], wall["b"]) == (0, 0)  # the left wall
+    assert wall["normal_impulse"] == pytest.approx(2.0, abs=1e-12)
+    peg = events[(events["b_kind"] == "obstacle") & (events["kind"] == "begin")][0]
+    assert (peg["a"], peg["b"]) == (1, 0)
+    assert peg["normal_impulse"] == pytest.approx(2.0, abs=1e-12)
+    assert (peg["x"], peg["y"]) == pytest.approx((5.0, 7.0))
+    # A later call starts a new list; without the switch there are none.
+    world.step(1)
+    assert len(world.contact_events()) <= 2
+    quiet = bounce.World(bounce.Config(), dt=0.01)
+    quiet.add_discs([[0.0, 0.0], [1.5, 0.0]], [[0.0, 0.0], [0.0, 0.0]], 1.0)
+    quiet.step(3)
+    assert len(quiet.contact_events()) == 0
+
+
+def test_the_threshold_and_its_checks():
+    world = head_on(contact_event_threshold=2.0)
+    world.step(100)
+    assert len(world.contact_events()) == 0, "an impulse of 1 is below 2"
+    with pytest.raises(ValueError, match="contact_event_threshold"):
+        bounce.Config(contact_event_threshold=-1.0)
+    with pytest.raises(TypeError, match="contact_events"):
+        bounce.Config(contact_events="yes")
+    assert "contact_events=True" in repr(bounce.Config(contact_events=True))
