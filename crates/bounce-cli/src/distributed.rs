@@ -173,6 +173,7 @@ fn check_supported(session: &Session) -> Result<()> {
             "time.method = \"event_driven\"",
         ),
         (config.contact_events, "[output] events"),
+        (!config.sensors.is_empty(), "[[sensor]]"),
     ];
     for (present, what) in refused {
         if present {

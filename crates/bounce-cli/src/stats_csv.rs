@@ -17,6 +17,10 @@
 //! obstacle, `obstacle_work`, the work the moving obstacles have done on the discs since the
 //! start.
 //!
+//! Each `[[sensor]]` adds `sensor_NAME_in` and `sensor_NAME_out` (the discs whose centre
+//! entered and left its region since the previous row; a disc a sink removes inside it
+//! leaves) and `sensor_NAME_count` (the discs inside now).
+//!
 //! Rough or spinning discs (`[world] friction`, `[[disc]] angular_velocity`, `[[gas]] spin`)
 //! add `rotational_energy` (`Σ ½ I ω²`), `angular_momentum` (about the origin, orbital and
 //! spin) and `friction_work` (the energy friction and rolling resistance removed since the
@@ -65,6 +69,8 @@ pub struct ScenarioColumns {
     work: bool,
     /// Whether to write the rotation's columns.
     rotation: bool,
+    /// The sensors' names.
+    sensors: Vec<String>,
 }
 
 impl ScenarioColumns {
@@ -73,6 +79,9 @@ impl ScenarioColumns {
         let groups = session.scenario.obstacle_groups();
         ScenarioColumns {
             rotation: session.world.particles().turns(),
+            sensors: (session.world.config().sensors.iter())
+                .map(|s| s.name.clone())
+                .collect(),
             work: groups.iter().any(|g| g.moving),
             groups: groups
                 .into_iter()
@@ -99,6 +108,11 @@ impl ScenarioColumns {
             out.extend(
                 ["rotational_energy", "angular_momentum", "friction_work"].map(String::from),
             );
+        }
+        for name in &self.sensors {
+            for what in ["in", "out", "count"] {
+                out.push(format!("sensor_{name}_{what}"));
+            }
         }
         out
     }
@@ -139,6 +153,10 @@ impl ScenarioColumns {
             out.push(world.angular_momentum().to_string());
             out.push(world.friction_work().to_string());
         }
+        for (k, count) in world.sensors().iter().enumerate().take(self.sensors.len()) {
+            let [entered, left] = totals.sensor_crossings.get(k).copied().unwrap_or([0, 0]);
+            out.extend([entered, left, count.inside as u64].map(|v| v.to_string()));
+        }
         out
     }
 }
@@ -175,6 +193,12 @@ impl Totals {
             for (sum, j) in t.obstacle_impulse.iter_mut().zip(impulses) {
                 sum[0] += j[0];
                 sum[1] += j[1];
+            }
+            let sensors = world.sensors();
+            t.sensor_crossings.resize(sensors.len(), [0, 0]);
+            for (sum, count) in t.sensor_crossings.iter_mut().zip(sensors) {
+                sum[0] += count.entered_last_step;
+                sum[1] += count.left_last_step;
             }
         }
     }

@@ -249,6 +249,64 @@ fn events_csv_is_the_same_on_any_thread_count_and_continues_on_resume() {
 }
 
 #[test]
+fn sensors_count_what_enters_and_leaves_between_rows() {
+    let s = Scratch::new();
+    // Discs rain into a sink on the floor; one sensor covers the sink, one a circle above.
+    let scenario = s.scenario(
+        "rain.toml",
+        r#"
+[world]
+min = [0.0, 0.0]
+max = [20.0, 30.0]
+gravity = [0.0, -9.81]
+[time]
+dt = 0.01
+steps = 300
+[[emitter]]
+region = { min = [2.0, 25.0], max = [18.0, 29.0] }
+rate = 50
+radius = 0.3
+[[sink]]
+region = { min = [0.0, 0.0], max = [20.0, 2.0] }
+[[sensor]]
+name = "floor"
+region = { min = [0.0, 0.0], max = [20.0, 2.0] }
+[[sensor]]
+name = "middle"
+region = { centre = [10.0, 15.0], radius = 5.0 }
+[output]
+stats_every = 25
+plots = false
+"#,
+    );
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .args(["--quiet", "--out"])
+            .arg(s.path("out")),
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let text = std::fs::read_to_string(s.path("out/stats.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<u64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap_or(0)).collect())
+        .collect();
+    let sum = |name: &str| rows.iter().map(|r| r[at(name)]).sum::<u64>();
+    // Every disc that reached the floor was removed there: in and out alike, none left.
+    let last = rows.last().unwrap();
+    assert!(sum("sensor_floor_in") > 10);
+    assert_eq!(sum("sensor_floor_in"), sum("sensor_floor_out"));
+    assert_eq!(last[at("sensor_floor_count")], 0);
+    // The circle holds what came in and did not leave.
+    let held = sum("sensor_middle_in") - sum("sensor_middle_out");
+    assert_eq!(held, last[at("sensor_middle_count")]);
+    assert!(sum("sensor_middle_out") > 0);
+}
+
+#[test]
 fn a_piston_run_reports_its_force_position_and_work() {
     let s = Scratch::new();
     let (_, header, last) = run_template(&s, "piston", "2000", &["--quiet"]);
@@ -593,6 +651,18 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
             minimal("", "dt = 0.1\nsteps = 5", ONE_DISC)
                 + "[output]\nevents = true\nevents_threshold = -2.0\n",
             vec![":15:", "output.events_threshold = -2", ">= 0"],
+        ),
+        (
+            "sensor region neither box nor circle",
+            minimal("", "dt = 0.1\nsteps = 5", ONE_DISC)
+                + "[[sensor]]\nname = \"gate\"\nregion = { centre = [1.0, 1.0] }\n",
+            vec![":15:", "a box { min", "or a circle"],
+        ),
+        (
+            "sensor name with a space",
+            minimal("", "dt = 0.1\nsteps = 5", ONE_DISC)
+                + "[[sensor]]\nname = \"a b\"\nregion = { min = [0.0, 0.0], max = [1.0, 1.0] }\n",
+            vec![":13:", "sensor #1: name \"a b\""],
         ),
         (
             "box inverted",

@@ -24,7 +24,7 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// configuration, the discs' angular velocities and orientations, the friction work);
 /// version 7 the configuration's `method` and `contact_duration` (event-driven runs);
 /// version 8 contact events (the configuration's switch and threshold, the world's last
-/// substep's contacts).
+/// substep's contacts) and sensors (their regions, the discs each holds, their counts).
 const VERSION: u32 = 8;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
@@ -45,6 +45,9 @@ pub struct RunState {
     pub elapsed: f64,
     /// Momentum each obstacle received since the last row (empty without obstacles).
     pub obstacle_impulse: Vec<[f64; 2]>,
+    /// The discs each sensor saw enter and leave since the last row (empty without
+    /// sensors).
+    pub sensor_crossings: Vec<[u64; 2]>,
 }
 
 /// A decoded checkpoint.
@@ -234,6 +237,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         obstacles,
         emitters,
         sinks,
+        sensors,
     } = a;
     let mut out = Vec::new();
     let mut differ = |field: &str, x: String, y: String| {
@@ -300,6 +304,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     );
     differ("emitters", f(emitters), f(&b.emitters));
     differ("sinks", f(sinks), f(&b.sinks));
+    differ("sensors", f(sensors), f(&b.sensors));
     if obstacles != &b.obstacles {
         differ(
             "obstacles",
@@ -366,6 +371,7 @@ pub(crate) mod tests {
             max_overlap: 0.0,
             elapsed: 0.5,
             obstacle_impulse: Vec::new(),
+            sensor_crossings: Vec::new(),
         };
         let bytes = encode(&world, Some(&run)).unwrap();
         let back = decode(&bytes, "c").unwrap();

@@ -109,6 +109,9 @@ pub struct Scenario {
     /// Regions that remove the discs entering them.
     #[serde(default)]
     pub sink: Vec<Spanned<SinkSpec>>,
+    /// Regions that count the discs entering and leaving them.
+    #[serde(default)]
+    pub sensor: Vec<Spanned<SensorSpec>>,
     /// What to write.
     #[serde(default)]
     pub output: OutputSpec,
@@ -442,6 +445,62 @@ pub struct EmitterSpec {
 pub struct SinkSpec {
     /// The region.
     pub region: RegionSpec,
+}
+
+/// `[[sensor]]`: counts the discs whose centre enters and leaves `region` (`stats.csv`'s
+/// `sensor_NAME_in`, `sensor_NAME_out`, `sensor_NAME_count`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Its name, unique among the sensors (letters, digits, `_` and `-`).
+    pub name: String,
+    /// A box `{ min, max }` or a circle `{ centre, radius }`.
+    pub region: SensorRegion,
+}
+
+/// A sensor's region: a box or a circle.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(try_from = "RegionFields")]
+pub enum SensorRegion {
+    /// `{ min = [x, y], max = [x, y] }`.
+    Box {
+        /// Lower-left corner.
+        min: [f64; 2],
+        /// Upper-right corner.
+        max: [f64; 2],
+    },
+    /// `{ centre = [x, y], radius = r }`.
+    Circle {
+        /// Centre.
+        centre: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
+}
+
+/// A sensor region's keys as written, before they are known to make a box or a circle.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegionFields {
+    min: Option<[f64; 2]>,
+    max: Option<[f64; 2]>,
+    centre: Option<[f64; 2]>,
+    radius: Option<f64>,
+}
+
+impl TryFrom<RegionFields> for SensorRegion {
+    type Error = &'static str;
+
+    fn try_from(r: RegionFields) -> Result<Self, Self::Error> {
+        match (r.min, r.max, r.centre, r.radius) {
+            (Some(min), Some(max), None, None) => Ok(SensorRegion::Box { min, max }),
+            (None, None, Some(centre), Some(radius)) => Ok(SensorRegion::Circle { centre, radius }),
+            _ => Err(
+                "a sensor's region is a box { min = [x, y], max = [x, y] } or a circle \
+                      { centre = [x, y], radius = r }",
+            ),
+        }
+    }
 }
 
 /// How frames colour the discs.
@@ -824,6 +883,20 @@ impl Scenario {
                     max: s.get_ref().region.max,
                 })
                 .collect(),
+            sensors: self
+                .sensor
+                .iter()
+                .map(|s| {
+                    let s = s.get_ref();
+                    let region = match s.region {
+                        SensorRegion::Box { min, max } => bounce::Region::Box { min, max },
+                        SensorRegion::Circle { centre, radius } => {
+                            bounce::Region::Circle { centre, radius }
+                        }
+                    };
+                    bounce::Sensor::new(s.name.clone(), region)
+                })
+                .collect(),
         }
     }
 
@@ -940,6 +1013,7 @@ impl Scenario {
             }
             "emitters" => (k, "emitter", self.emitter.get(k)?.span()),
             "sinks" => (k, "sink", self.sink.get(k)?.span()),
+            "sensors" => (k, "sensor", self.sensor.get(k)?.span()),
             _ => return None,
         };
         Some((table, what, Some(line_at(source, span.start))))
@@ -966,6 +1040,20 @@ impl Scenario {
             let line = Some(lines.at(o.span().start));
             for message in o.get_ref().problems() {
                 at(line, format!("obstacle #{}: {message}", k + 1));
+            }
+        }
+        for (k, sensor) in self.sensor.iter().enumerate() {
+            let name = &sensor.get_ref().name;
+            let plain = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+            if name.is_empty() || !name.chars().all(plain) {
+                at(
+                    Some(lines.at(sensor.span().start)),
+                    format!(
+                        "sensor #{}: name {name:?} must be letters, digits, `_` or `-` (it names \
+                         stats.csv columns)",
+                        k + 1
+                    ),
+                );
             }
         }
         for (k, e) in self.emitter.iter().enumerate() {

@@ -64,7 +64,8 @@ mod world;
 
 pub use config::{
     Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Method, Motion,
-    Obstacle, ObstacleState, RestingContacts, RestitutionModel, Shape, Sink, VelocityUpdate,
+    Obstacle, ObstacleState, Region, RestingContacts, RestitutionModel, Sensor, Shape, Sink,
+    VelocityUpdate,
 };
 pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
@@ -72,4 +73,4 @@ pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};
 pub use sum::{ExactSum, StepSums, WallSums};
-pub use world::{SavedWorld, StepError, World, WorldError};
+pub use world::{SavedWorld, SensorCount, StepError, World, WorldError};

@@ -208,6 +208,14 @@ fn config(r: &Recipe) -> Config {
         obstacles,
         emitters,
         sinks,
+        // Sensors count; they change nothing.
+        sensors: vec![bounce::Sensor::new(
+            "half",
+            bounce::Region::Circle {
+                centre: [20.0, 15.0],
+                radius: 10.0,
+            },
+        )],
     }
 }
 

@@ -10,11 +10,13 @@ use thiserror::Error;
 
 mod method;
 mod obstacle;
+mod sensor;
 mod sources;
 
 pub use method::Method;
 
 pub use obstacle::{Motion, Obstacle, ObstacleState, Shape};
+pub use sensor::{Region, Sensor};
 pub use sources::{Emitter, EmitterState, Sink};
 
 /// Simulation parameters. Build with [`Config::default`] and change what you need.
@@ -128,6 +130,9 @@ pub struct Config {
     pub emitters: Vec<Emitter>,
     /// Regions that remove the discs entering them (see [`Sink`]). Default none.
     pub sinks: Vec<Sink>,
+    /// Regions that count the discs entering and leaving them (see [`Sensor`]). Default
+    /// none.
+    pub sensors: Vec<Sensor>,
 }
 
 /// The most substeps a step may have ([`Config::substeps`]).
@@ -159,6 +164,7 @@ impl Default for Config {
             obstacles: Vec::new(),
             emitters: Vec::new(),
             sinks: Vec::new(),
+            sensors: Vec::new(),
         }
     }
 }
@@ -474,6 +480,19 @@ impl Config {
         for (k, sink) in self.sinks.iter().enumerate() {
             if let Some((value, expected)) = sink.problem() {
                 err("sinks", format!("sink {k}: {value}"), expected);
+            }
+        }
+        for (k, sensor) in self.sensors.iter().enumerate() {
+            if let Some((value, expected)) = sensor.region.problem() {
+                err("sensors", format!("sensor {k}: {value}"), expected);
+            }
+            let repeated = self.sensors[..k].iter().any(|s| s.name == sensor.name);
+            if sensor.name.is_empty() || repeated {
+                err(
+                    "sensors",
+                    format!("sensor {k}: name {:?}", sensor.name),
+                    "each sensor needs a name of its own",
+                );
             }
         }
         out

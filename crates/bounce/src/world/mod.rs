@@ -29,10 +29,12 @@ mod events;
 mod obstacles;
 mod part;
 mod rotation;
+mod sensors;
 
 mod state;
 mod step;
 
+pub use sensors::SensorCount;
 pub use state::SavedWorld;
 #[cfg(test)]
 mod tests;
@@ -95,6 +97,8 @@ pub struct World {
     /// The last substep's contacts and the last step's contact events (with
     /// [`Config::contact_events`]).
     pub(crate) contact_log: ContactLog,
+    /// Each sensor's discs and counts.
+    sensors: sensors::Sensors,
     /// Which emitter gave which ids: `[first id, count, emitter]`, ascending (runs of
     /// consecutive ids from one emitter are merged).
     emitted_ids: Vec<[u32; 3]>,
@@ -205,6 +209,7 @@ impl World {
         config.validate()?;
         let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
         let emitter_count = config.emitters.len();
+        let sensors = sensors::Sensors::new(&config.sensors);
         let mut particles = Particles::default();
         if config.is_rough() {
             particles.start_turning();
@@ -229,6 +234,7 @@ impl World {
             emitter_states: vec![EmitterState::default(); emitter_count],
             removed: 0,
             contact_log: ContactLog::default(),
+            sensors,
             emitted_ids: Vec::new(),
             emitted_last_step: Vec::new(),
             contacts: Contacts::default(),
@@ -284,6 +290,7 @@ impl World {
         if config.is_rough() {
             self.particles.start_turning();
         }
+        self.sensors.fit(&config.sensors);
         self.config = config;
         self.obstacles = None;
         self.broadphase.invalidate();
@@ -451,6 +458,12 @@ impl World {
     /// ```
     pub fn contact_events(&self) -> &[ContactEvent] {
         self.contact_log.events()
+    }
+
+    /// Each sensor's counts, in the order of [`Config::sensors`]: the discs inside now, and
+    /// those that entered and left, in the last step and since the world was made.
+    pub fn sensors(&self) -> &[SensorCount] {
+        self.sensors.counts()
     }
 
     /// How many contacts the last substep had (a pair, a disc and a wall, a disc and an

@@ -47,6 +47,7 @@ pub(super) struct WorldState {
     pub(super) emitter_states: Vec<EmitterState>,
     pub(super) removed: u32,
     pub(super) contact_log: ContactLog,
+    pub(super) sensors: super::sensors::Sensors,
     pub(super) emitted_ids: Vec<[u32; 3]>,
 }
 
@@ -229,6 +230,10 @@ impl TryFrom<WorldState> for World {
             return Err(WorldError::Inconsistent(format!("contact_log: {problem}")));
         }
         world.contact_log = state.contact_log;
+        if let Some(problem) = state.sensors.problem(&world.config.sensors, state.next_id) {
+            return Err(WorldError::Inconsistent(format!("sensors: {problem}")));
+        }
+        world.sensors = state.sensors;
         world.broadphase.reference = state.reference;
         world.particles = state.particles;
         if world.config.is_rough() {

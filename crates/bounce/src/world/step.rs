@@ -101,9 +101,15 @@ impl World {
             finite,
             mut reordered,
         } = done;
+        if !self.config.sensors.is_empty() {
+            self.sensors.observe(&self.config.sensors, &self.particles);
+        }
         if !self.config.sinks.is_empty() && finite {
             stats.removed = self.drain_sinks();
             reordered |= stats.removed > 0;
+            if stats.removed > 0 {
+                self.sensors.removed(&self.particles);
+            }
         }
         let measured = Measured {
             total_mass: self.measured.total_mass,

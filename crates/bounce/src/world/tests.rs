@@ -122,6 +122,7 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         emitter_states: Vec::new(),
         removed: 0,
         contact_log: Default::default(),
+        sensors: Default::default(),
         emitted_ids: Vec::new(),
     };
     let error = World::try_from(state).unwrap_err().to_string();
