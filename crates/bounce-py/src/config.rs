@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use serde::Deserialize;
 
 use crate::obstacle::Obstacle;
-use crate::sources::{Emitter, Sink};
+use crate::sources::{Emitter, Sensor, Sink};
 use serde::de::IntoDeserializer;
 
 /// The world's configuration: the seed's parameters, the boundary and the model options.
@@ -34,7 +34,8 @@ use serde::de::IntoDeserializer;
 /// speed), the rough discs' ``friction``, ``wall_friction`` (``None``: ``friction``),
 /// ``tangential_restitution``, ``rolling_resistance`` and ``inertia_factor`` (all 0 but the
 /// last, ½: the seed's smooth discs; any friction makes the discs turn), ``obstacles`` (a list
-/// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`) and ``sinks`` (of :class:`Sink`),
+/// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`), ``sinks`` (of :class:`Sink`),
+/// ``sensors`` (of :class:`Sensor`),
 /// ``method`` (``"time_stepped"``, the seed's loop, or ``"event_driven"``: exact hard discs,
 /// every collision at its moment of contact, ``dt`` only how often the world is observed)
 /// ``contact_duration`` (the event-driven TC model's ``t_c``: a disc's collision within
@@ -207,6 +208,11 @@ impl Config {
                     "sinks" => {
                         let list: Vec<PyRef<'_, Sink>> = typed(&key, v, "a list of bounce.Sink")?;
                         c.sinks = list.iter().map(|e| e.inner).collect();
+                    }
+                    "sensors" => {
+                        let list: Vec<PyRef<'_, Sensor>> =
+                            typed(&key, v, "a list of bounce.Sensor")?;
+                        c.sensors = list.iter().map(|e| e.inner.clone()).collect();
                     }
                     _ => {
                         return Err(PyTypeError::new_err(format!(
@@ -457,6 +463,10 @@ impl Config {
                 self.method(),
                 c.contact_duration
             ));
+        }
+        if !c.sensors.is_empty() {
+            let names: Vec<&str> = c.sensors.iter().map(|s| s.name.as_str()).collect();
+            parts.push(format!("sensors={names:?}"));
         }
         if c.contact_events {
             parts.push(format!(

@@ -28,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<obstacle::Obstacle>()?;
     m.add_class::<sources::Emitter>()?;
     m.add_class::<sources::Sink>()?;
+    m.add_class::<sources::Sensor>()?;
     m.add_function(wrap_pyfunction!(obstacle::polyline, m)?)?;
     m.add_function(wrap_pyfunction!(obstacle::rectangle, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -118,3 +118,70 @@ impl Sink {
         )
     }
 }
+
+/// Counts the discs whose centre enters and leaves a region: a box, ``Sensor(name,
+/// min=(x, y), max=(x, y))``, or a circle, ``Sensor(name, centre=(x, y), radius=r)``. Pass
+/// them as ``Config(sensors=[...])``; ``World.sensors`` gives the counts by name.
+#[pyclass(module = "bounce", name = "Sensor", frozen)]
+#[derive(Clone)]
+pub struct Sensor {
+    pub(crate) inner: bounce::Sensor,
+}
+
+#[pymethods]
+impl Sensor {
+    #[new]
+    #[pyo3(signature = (name, min = None, max = None, centre = None, radius = None))]
+    fn new(
+        name: String,
+        min: Option<(f64, f64)>,
+        max: Option<(f64, f64)>,
+        centre: Option<(f64, f64)>,
+        radius: Option<f64>,
+    ) -> PyResult<Self> {
+        let region = match (min, max, centre, radius) {
+            (Some(min), Some(max), None, None) => bounce::Region::Box {
+                min: [min.0, min.1],
+                max: [max.0, max.1],
+            },
+            (None, None, Some(c), Some(radius)) => bounce::Region::Circle {
+                centre: [c.0, c.1],
+                radius,
+            },
+            _ => {
+                return Err(PyValueError::new_err(
+                    "Sensor: give a box (min=, max=) or a circle (centre=, radius=)",
+                ));
+            }
+        };
+        let inner = bounce::Sensor::new(name, region);
+        let config = bounce::Config {
+            sensors: vec![inner.clone()],
+            ..bounce::Config::default()
+        };
+        config
+            .validate()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Sensor { inner })
+    }
+
+    /// Its name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    fn __repr__(&self) -> String {
+        let name = &self.inner.name;
+        match self.inner.region {
+            bounce::Region::Box { min, max } => format!(
+                "Sensor({name:?}, min=({}, {}), max=({}, {}))",
+                min[0], min[1], max[0], max[1]
+            ),
+            bounce::Region::Circle { centre, radius } => format!(
+                "Sensor({name:?}, centre=({}, {}), radius={radius})",
+                centre[0], centre[1]
+            ),
+        }
+    }
+}

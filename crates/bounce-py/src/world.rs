@@ -433,6 +433,25 @@ impl World {
         self.events.array(py)
     }
 
+    /// Each sensor's counts by name: ``{"entered": ..., "left": ..., "inside": ...,
+    /// "entered_last_step": ..., "left_last_step": ...}`` (the discs whose centre entered
+    /// and left its region since the world was made, those inside now, and the last step's).
+    #[getter]
+    fn sensors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let world = self.get();
+        let out = PyDict::new(py);
+        for (sensor, count) in world.config().sensors.iter().zip(world.sensors()) {
+            let d = PyDict::new(py);
+            d.set_item("entered", count.entered)?;
+            d.set_item("left", count.left)?;
+            d.set_item("inside", count.inside)?;
+            d.set_item("entered_last_step", count.entered_last_step)?;
+            d.set_item("left_last_step", count.left_last_step)?;
+            out.set_item(&sensor.name, d)?;
+        }
+        Ok(out)
+    }
+
     /// The configuration.
     #[getter]
     fn config(&self) -> Config {

@@ -17,7 +17,10 @@ ids and bits: ``world.state_hash()`` after N steps equals the hash ``bounce run`
 Obstacles (segments and pegs, fixed or moving) go in ``Config(obstacles=[...])`` or
 ``world.add_obstacles([...])``; ``polyline`` and ``rectangle`` make lists of segments.
 ``Config(emitters=[Emitter(...)], sinks=[Sink(...)])`` add and remove discs during a run
-(ids are never reused; arrays in id order skip the removed ones).
+(ids are never reused; arrays in id order skip the removed ones); ``Config(sensors=[Sensor(...)])``
+count the discs entering and leaving regions (``World.sensors``), and
+``Config(contact_events=True)`` records what began and ended touching
+(``World.contact_events()``).
 
 Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView`,
 :class:`GSDWriter`.
@@ -28,6 +31,7 @@ from ._native import (
     Emitter,
     GSDWriter,
     Obstacle,
+    Sensor,
     Sink,
     StorageView,
     World,
@@ -44,6 +48,7 @@ __all__ = [
     "rectangle",
     "Emitter",
     "Sink",
+    "Sensor",
     "StorageView",
     "GSDWriter",
     "__version__",

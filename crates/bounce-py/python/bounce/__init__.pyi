@@ -54,6 +54,21 @@ class Sink:
 
     def __init__(self, min: _Pair, max: _Pair) -> None: ...
 
+class Sensor:
+    """Counts the discs whose centre enters and leaves a box (min, max) or a circle
+    (centre, radius)."""
+
+    def __init__(
+        self,
+        name: str,
+        min: Optional[_Pair] = ...,
+        max: Optional[_Pair] = ...,
+        centre: Optional[_Pair] = ...,
+        radius: Optional[float] = ...,
+    ) -> None: ...
+    @property
+    def name(self) -> str: ...
+
 class Obstacle:
     """A segment or a peg that discs collide with, fixed or moving."""
 
@@ -142,6 +157,7 @@ class Config:
         obstacles: Sequence[Obstacle] = ...,
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
+        sensors: Sequence[Sensor] = ...,
     ) -> None: ...
     @property
     def obstacles(self) -> List[Obstacle]: ...
@@ -275,6 +291,8 @@ class World:
     def obstacle_impulses(self) -> npt.NDArray[np.float64]: ...
     @property
     def obstacle_work(self) -> float: ...
+    @property
+    def sensors(self) -> Dict[str, Dict[str, int]]: ...
     def contact_events(self) -> npt.NDArray[np.void]:
         """The contact events of the last ``step()`` call's steps: a structured array with
         fields step, time, substep, kind, a, b_kind, b, x, y, nx, ny, normal_impulse,

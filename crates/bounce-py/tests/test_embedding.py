@@ -1,4 +1,4 @@
-"""Contact events from Python: World.contact_events() as a structured NumPy array."""
+"""Embedding from Python: World.contact_events() as a structured array, Sensor counts."""
 
 import numpy as np
 import pytest
@@ -69,3 +69,42 @@ def test_the_threshold_and_its_checks():
     with pytest.raises(TypeError, match="contact_events"):
         bounce.Config(contact_events="yes")
     assert "contact_events=True" in repr(bounce.Config(contact_events=True))
+
+
+def test_sensors_count_a_crossing_and_the_removals_of_a_sink():
+    gate = bounce.Sensor("gate", min=(4.0, -1.0), max=(6.0, 1.0))
+    ring = bounce.Sensor("ring", centre=(10.0, 0.0), radius=1.0)
+    world = bounce.World(bounce.Config(sensors=[gate, ring]), dt=0.1)
+    world.add_discs([[0.0, 0.0]], [[1.0, 0.0]], 0.1)
+    world.step(100)
+    assert world.sensors["gate"] == {
+        "entered": 1,
+        "left": 1,
+        "inside": 0,
+        "entered_last_step": 0,
+        "left_last_step": 0,
+    }
+    # At x = 10 after 10 time units: inside the ring now.
+    assert (world.sensors["ring"]["entered"], world.sensors["ring"]["inside"]) == (1, 1)
+    # Rain into a sink under a sensor: every removal is counted as leaving.
+    floor = bounce.Sensor("floor", min=(0.0, 0.0), max=(20.0, 2.0))
+    config = bounce.Config(
+        boundary="walls",
+        min=(0, 0),
+        max=(20, 30),
+        gravity=(0, -9.81),
+        emitters=[bounce.Emitter((2, 25), (18, 29), rate=50, radius=0.3)],
+        sinks=[bounce.Sink((0, 0), (20, 2))],
+        sensors=[floor],
+    )
+    rain = bounce.World(config, dt=0.01)
+    removed = 0
+    for _ in range(300):
+        rain.step()
+        removed += rain.stats["removed"]
+    counts = rain.sensors["floor"]
+    assert removed > 10 and counts["entered"] == counts["left"] == removed
+    with pytest.raises(ValueError, match="box"):
+        bounce.Sensor("half", min=(0.0, 0.0))
+    with pytest.raises(ValueError, match="name of its own"):
+        bounce.Config(sensors=[gate, gate])
