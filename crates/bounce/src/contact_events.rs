@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::config::Shape;
 use crate::geometry::Geometry;
 use crate::law::{COINCIDENT_NORMAL, Law, nearest};
-use crate::obstacles::Impact;
+use crate::obstacles::Impacts;
 use crate::particles::{ParticleId, Particles};
 use crate::resolve::PairResolved;
 
@@ -371,14 +371,14 @@ impl ContactLog {
     pub(crate) fn see_obstacles(
         &mut self,
         p: &Particles,
-        impacts: &[Impact],
+        impacts: &Impacts,
         shapes: &[Shape],
         velocities: impl Fn(usize) -> [f64; 2],
     ) {
-        for hit in impacts {
+        for (hit, approach) in impacts.list.iter().zip(&impacts.approaches) {
             let o = hit.obstacle as usize;
-            let (mut q, _) = nearest(&shapes[o], hit.position);
-            let toward = [q[0] - hit.position[0], q[1] - hit.position[1]];
+            let (mut q, _) = nearest(&shapes[o], approach.position);
+            let toward = [q[0] - approach.position[0], q[1] - approach.position[1]];
             let d = (toward[0] * toward[0] + toward[1] * toward[1]).sqrt();
             let j = hit.momentum;
             let jd = (j[0] * j[0] + j[1] * j[1]).sqrt();
@@ -393,7 +393,7 @@ impl ContactLog {
                 q = [q[0] - normal[0] * radius, q[1] - normal[1] * radius];
             }
             let u = velocities(o);
-            let relative = [hit.velocity[0] - u[0], hit.velocity[1] - u[1]];
+            let relative = [approach.velocity[0] - u[0], approach.velocity[1] - u[1]];
             self.see(
                 p.id[hit.disc as usize],
                 Party::Obstacle(hit.obstacle),

@@ -421,7 +421,7 @@ fn meet_obstacles(
         }
         for &k in &rules.obstacle_order {
             let u = states[k].velocity;
-            let (position, before) = (disc.position, disc.velocity);
+            let before = disc.velocity;
             let (j, rubbed) = collide(&shapes[k], u, rules.surface[k], law, &mut disc);
             if j != [0.0, 0.0] {
                 if rubbed != 0.0 {
@@ -431,8 +431,6 @@ fn meet_obstacles(
                     obstacle: k as u32,
                     disc: i as u32,
                     momentum: j,
-                    position,
-                    velocity: before,
                 });
                 let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
                 impacts.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));

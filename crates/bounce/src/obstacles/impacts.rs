@@ -19,8 +19,14 @@ pub(crate) struct Impact {
     pub disc: u32,
     /// The momentum the obstacle received.
     pub momentum: [f64; 2],
-    /// The disc's centre and velocity as it met the obstacle.
+}
+
+/// Where a disc met an obstacle and how fast it came (kept only for contact events).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Approach {
+    /// The disc's centre.
     pub position: [f64; 2],
+    /// Its velocity before.
     pub velocity: [f64; 2],
 }
 
@@ -29,6 +35,8 @@ pub(crate) struct Impact {
 pub(crate) struct Impacts {
     /// Every collision, in chunk order, then disc order.
     pub list: Vec<Impact>,
+    /// Each collision's approach, when asked for (contact events), else empty.
+    pub approaches: Vec<Approach>,
     /// Work done on the discs by moving obstacles, `Σ J_disc · u`, summed exactly.
     pub work: ExactSum,
     /// The energy friction at the obstacles removed (rough discs), summed exactly.
@@ -70,7 +78,7 @@ pub(crate) fn meet(
     ctx: &StepContext,
     met: &mut Met,
 ) {
-    let impacts = resolve_obstacles(p, trail, obstacles, states, ctx);
+    let impacts = resolve_obstacles(p, trail, obstacles, states, ctx, false);
     take_impacts(impacts, config, states, met);
 }
 

@@ -23,7 +23,7 @@ use crate::parallel::{CHUNK, SharedSlice};
 use crate::particles::Particles;
 
 mod impacts;
-pub(crate) use impacts::{Impact, Impacts, Met, meet, take_impacts};
+pub(crate) use impacts::{Approach, Impact, Impacts, Met, meet, take_impacts};
 
 /// The obstacles in the form the step uses: the current shapes, the restitutions and
 /// frictions, and the
@@ -253,13 +253,15 @@ impl Trail {
 /// First, a disc whose centre crossed a segment since `trail` (moving fast, or pushed by
 /// its neighbours) is put back on the side it came from, touching the segment; then each
 /// obstacle in reach pushes it out and bounces it ([`collide`]). Pushed discs are kept inside
-/// the walls, and `trail` becomes the new positions.
+/// the walls, and `trail` becomes the new positions. With `approaches`, each impact's
+/// approach is kept too (for contact events).
 pub(crate) fn resolve_obstacles(
     p: &mut Particles,
     trail: Option<&mut Trail>,
     obstacles: &Obstacles,
     states: &[ObstacleState],
     ctx: &StepContext,
+    approaches: bool,
 ) -> Impacts {
     let (law, exec, geometry) = (&ctx.law, ctx.exec, ctx.geometry);
     let min_image = geometry.min_image();
@@ -365,9 +367,13 @@ pub(crate) fn resolve_obstacles(
                         obstacle: o,
                         disc: i as u32,
                         momentum: j,
-                        position,
-                        velocity: before,
                     });
+                    if approaches {
+                        out.approaches.push(Approach {
+                            position,
+                            velocity: before,
+                        });
+                    }
                     // The work of the obstacle on the disc: the disc's impulse along `u`.
                     let dv = [disc.velocity[0] - before[0], disc.velocity[1] - before[1]];
                     out.work.add(disc.mass * (dv[0] * u[0] + dv[1] * u[1]));
@@ -391,6 +397,7 @@ pub(crate) fn resolve_obstacles(
     let mut total = Impacts::default();
     for part in partial {
         total.list.extend(part.list);
+        total.approaches.extend(part.approaches);
         total.work.merge(&part.work);
         total.friction.merge(&part.friction);
     }

@@ -397,10 +397,10 @@ impl<'w> Stages<'w> {
             ),
             Some(log) => {
                 let impacts =
-                    resolve_obstacles(p, trail, self.obstacles, self.obstacle_states, ctx);
+                    resolve_obstacles(p, trail, self.obstacles, self.obstacle_states, ctx, true);
                 let states = &*self.obstacle_states;
                 let shapes = self.obstacles.shapes();
-                log.see_obstacles(p, &impacts.list, shapes, |k| states[k].velocity);
+                log.see_obstacles(p, &impacts, shapes, |k| states[k].velocity);
                 take_impacts(impacts, self.config, self.obstacle_states, &mut done.met);
             }
         }
