@@ -15,6 +15,7 @@ mod config;
 mod events;
 mod gsd;
 mod obstacle;
+mod query;
 mod sources;
 mod world;
 
@@ -29,6 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sources::Emitter>()?;
     m.add_class::<sources::Sink>()?;
     m.add_class::<sources::Sensor>()?;
+    m.add_class::<query::Queries>()?;
     m.add_function(wrap_pyfunction!(obstacle::polyline, m)?)?;
     m.add_function(wrap_pyfunction!(obstacle::rectangle, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -18,6 +18,7 @@ use crate::obstacle::Obstacle;
 use crate::config::Config;
 use crate::events::Recorded;
 use crate::gsd::GsdWriter;
+use crate::query::Queries;
 
 /// A world of discs: the simulation.
 ///
@@ -450,6 +451,14 @@ impl World {
             out.set_item(&sensor.name, d)?;
         }
         Ok(out)
+    }
+
+    /// A snapshot of the discs binned for spatial queries (:class:`Queries`: ``in_circle``,
+    /// ``in_box``, ``nearest``, ``ray_cast``); ask for a new one after a step.
+    fn queries(&self) -> Queries {
+        Queries {
+            inner: self.get().queries(),
+        }
     }
 
     /// The configuration.

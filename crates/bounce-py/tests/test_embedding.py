@@ -108,3 +108,31 @@ def test_sensors_count_a_crossing_and_the_removals_of_a_sink():
         bounce.Sensor("half", min=(0.0, 0.0))
     with pytest.raises(ValueError, match="name of its own"):
         bounce.Config(sensors=[gate, gate])
+
+
+def test_queries_answer_by_id_as_brute_force_does():
+    rng = np.random.default_rng(7)
+    config = bounce.Config(boundary="walls", min=(0, 0), max=(50, 40))
+    world = bounce.World(config, dt=0.01)
+    positions = rng.uniform((1, 1), (49, 39), size=(600, 2))
+    radii = rng.uniform(0.1, 0.5, size=600)
+    world.add_discs(positions, np.zeros((600, 2)), radii)
+    queries = world.queries()
+    assert len(queries) == 600
+    for _ in range(200):
+        p = rng.uniform((0, 0), (50, 40))
+        r = rng.uniform(0, 5)
+        distance = np.hypot(*(positions - p).T)
+        assert list(queries.in_circle(tuple(p), r)) == list(np.flatnonzero(distance <= r + radii))
+        gap = distance - radii
+        nearest, d = queries.nearest(tuple(p))
+        assert nearest == np.argmin(gap) and d == pytest.approx(gap.min(), abs=1e-12)
+    hit = queries.ray_cast((0.0, 20.0), (1.0, 0.0), 50.0)
+    assert hit is not None and hit["normal"][0] < 0
+    first = min(
+        (x - np.sqrt(r * r - (20 - y) ** 2), k)
+        for k, ((x, y), r) in enumerate(zip(positions, radii))
+        if abs(20 - y) < r
+    )
+    assert hit["id"] == first[1] and hit["fraction"] == pytest.approx(first[0], abs=1e-9)
+    assert queries.ray_cast((0.0, 20.0), (-1.0, 0.0), 50.0) is None

@@ -55,6 +55,7 @@ mod parallel;
 mod part;
 mod particles;
 pub mod plain;
+pub mod query;
 mod resolve;
 pub mod scene;
 mod sources;

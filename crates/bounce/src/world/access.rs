@@ -133,6 +133,33 @@ impl World {
         pushed
     }
 
+    /// A snapshot of the discs binned for spatial queries: the discs overlapping a circle or
+    /// a box, the nearest disc to a point, the first disc a ray enters. Building it bins
+    /// every disc once (O(N)); each query then costs what is near it. It does not follow
+    /// the world: ask again after a step.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+    ///     ..Config::default()
+    /// })?;
+    /// let a = world.add_particle(Particle::new([2.0, 5.0], [0.0, 0.0], 0.5))?;
+    /// let b = world.add_particle(Particle::new([8.0, 5.0], [0.0, 0.0], 0.5))?;
+    /// let queries = world.queries();
+    /// assert_eq!(queries.in_circle([3.0, 5.0], 1.0), vec![a]);
+    /// assert_eq!(queries.nearest([9.0, 9.0]).unwrap().0, b);
+    /// let hit = queries.ray_cast([0.0, 5.0], [1.0, 0.0], 100.0).unwrap();
+    /// assert_eq!((hit.id, hit.point, hit.normal), (a, [1.5, 5.0], [-1.0, 0.0]));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn queries(&self) -> crate::query::Queries {
+        crate::query::Queries::new(
+            &self.particles,
+            &crate::geometry::Geometry::new(&self.config),
+        )
+    }
+
     /// The particle whose disc contains `point` (the nearest centre if several overlap it).
     pub fn particle_at(&self, point: [f64; 2]) -> Option<ParticleId> {
         let p = &self.particles;
