@@ -23,6 +23,7 @@ steps = 40
 position = [10.0, 10.0]
 radius = 2.0
 color = "red"
+tag = 42
 
 [[disc]]
 position = [30.0, 5.0]
@@ -36,6 +37,7 @@ speed = 1.0
 seed = 5
 region = { min = [15.0, 12.0], max = [40.0, 20.0] }
 color = "blue"
+tag = 18446744073709551615
 
 [output]
 stats_every = 5
@@ -388,6 +390,9 @@ with gsd.hoomd.open(sys.argv[1], "r") as t:
     assert t[4].configuration.step == 40
     energies = [fr.log["kinetic_energy"][0] for fr in t]
     assert np.allclose(energies, energies[0]), energies
+    # The tables' tags, by id: 42, none (0), and the gas's 2^64 - 1.
+    tags = t[4].log["particles/tag"]
+    assert tags.dtype == np.uint64 and list(tags[:3]) == [42, 0, 2**64 - 1], tags[:3]
     print("ok", energies[0])
 "#;
     let (code, stdout, stderr) = output(

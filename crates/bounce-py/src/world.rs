@@ -9,7 +9,7 @@ use bounce::law::Law;
 use bounce::{Particle, World as RustWorld};
 use numpy::ndarray::{Array1, Array2, ArrayView1};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -97,6 +97,23 @@ fn float_array<'py>(
     }
     let values = array.readonly().as_slice()?.to_vec();
     Ok((values, shape[0]))
+}
+
+/// `n` tags from a sequence or array of non-negative integers (or one for all).
+fn tag_array(value: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<u64>> {
+    if let Ok(one) = value.extract::<u64>() {
+        return Ok(vec![one; n]);
+    }
+    let tags: Vec<u64> = value.extract().map_err(|_| {
+        PyTypeError::new_err("tags must be integers in [0, 2**64) (one, or one per disc)")
+    })?;
+    if tags.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "tags has {} values for {n} discs",
+            tags.len()
+        )));
+    }
+    Ok(tags)
 }
 
 fn shape_text(shape: &[usize]) -> String {
@@ -264,7 +281,7 @@ impl World {
     /// or one number, ``masses`` (for ``mass_model = "per_particle"``) likewise or ``None``.
     /// Any array-like of real numbers is accepted. All or nothing: a bad row raises
     /// ``ValueError`` naming its index and the world is unchanged. Returns the new ids.
-    #[pyo3(signature = (positions, velocities, radii, masses = None))]
+    #[pyo3(signature = (positions, velocities, radii, masses = None, tags = None))]
     fn add_discs<'py>(
         &mut self,
         py: Python<'py>,
@@ -272,6 +289,7 @@ impl World {
         velocities: &Bound<'py, PyAny>,
         radii: &Bound<'py, PyAny>,
         masses: Option<&Bound<'py, PyAny>>,
+        tags: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<u32>>> {
         self.check_unlocked()?;
         let (positions, n) = float_array(py, "positions", positions, Some(2), None)?;
@@ -284,8 +302,10 @@ impl World {
         };
         let radii = per_disc("radii", radii)?;
         let masses = masses.map(|m| per_disc("masses", m)).transpose()?;
+        let tags = tags.map(|t| tag_array(t, n)).transpose()?;
         let discs = (0..n).map(|k| Particle {
             mass: masses.as_ref().map(|m| m[k]),
+            tag: tags.as_ref().map_or(0, |t| t[k]),
             ..Particle::new(
                 [positions[2 * k], positions[2 * k + 1]],
                 [velocities[2 * k], velocities[2 * k + 1]],
@@ -669,6 +689,28 @@ impl World {
     fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
         let order = self.get().in_id_order();
         Array1::from_iter(order.into_iter().map(|(id, _)| id.0)).into_pyarray(py)
+    }
+
+    /// Each disc's tag (``uint64``, id order): the user's own number, carried through every
+    /// step, checkpoint and GSD frame (``log/particles/tag``); 0 unless set.
+    #[getter]
+    fn tags<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u64>> {
+        let world = self.get();
+        let p = world.particles();
+        let order = world.in_id_order();
+        Array1::from_iter(order.into_iter().map(|(_, i)| p.tag_of(i))).into_pyarray(py)
+    }
+
+    #[setter]
+    fn set_tags(&mut self, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_unlocked()?;
+        let n = self.get().len();
+        let tags = tag_array(value, n)?;
+        let world = self.get_mut();
+        for ((id, _), tag) in world.in_id_order().into_iter().zip(tags) {
+            world.set_tag(id, tag).map_err(value_error)?;
+        }
+        Ok(())
     }
 
     /// Read-only arrays over the engine's own memory, in storage order, without a copy:

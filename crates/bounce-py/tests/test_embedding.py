@@ -136,3 +136,32 @@ def test_queries_answer_by_id_as_brute_force_does():
     )
     assert hit["id"] == first[1] and hit["fraction"] == pytest.approx(first[0], abs=1e-9)
     assert queries.ray_cast((0.0, 20.0), (-1.0, 0.0), 50.0) is None
+
+
+def test_tags_follow_discs_through_steps_saves_and_gsd(tmp_path):
+    config = bounce.Config(boundary="periodic", min=(0, 0), max=(30, 30))
+    world = bounce.World(config, dt=0.05, threads=2)
+    rng = np.random.default_rng(3)
+    side = np.arange(15) * 2.0 + 1.0
+    positions = np.stack(np.meshgrid(side, side), axis=-1).reshape(-1, 2)
+    tags = rng.integers(0, 2**63, size=len(positions), dtype=np.uint64)
+    tags[0] = 2**64 - 1
+    world.add_discs(positions, rng.normal(size=positions.shape), 0.4, tags=tags)
+    world.step(200)
+    assert world.tags.dtype == np.uint64
+    assert np.array_equal(world.tags, tags)
+    world.tags = tags[::-1].copy()
+    world.save(str(tmp_path / "w.bin"))
+    loaded = bounce.World.load(str(tmp_path / "w.bin"), dt=0.05)
+    assert np.array_equal(loaded.tags, tags[::-1])
+    import gsd.hoomd
+
+    with bounce.GSDWriter(str(tmp_path / "t.gsd"), every=1) as writer:
+        loaded.add_writer(writer)
+        loaded.step(2)
+    with gsd.hoomd.open(str(tmp_path / "t.gsd")) as trajectory:
+        assert np.array_equal(trajectory[-1].log["particles/tag"], tags[::-1])
+    with pytest.raises(ValueError, match="tags has 2 values"):
+        world.tags = [1, 2]
+    with pytest.raises(TypeError, match="tags must be integers"):
+        world.tags = [-1] * len(tags)

@@ -8,7 +8,8 @@
 //!
 //! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
 //! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
-//! order, and `log/kinetic_energy`. Where discs turn (rough or spinning), also
+//! order, and `log/kinetic_energy`; where any disc has a tag (`Particle::tag`),
+//! `log/particles/tag` (`uint64`, id order). Where discs turn (rough or spinning), also
 //! `particles/{moment_inertia,orientation,angmom}` as HOOMD-blue writes rotation about z:
 //! the moment of inertia `(0, 0, I)`, the orientation quaternion `(cos θ/2, 0, 0, sin θ/2)`
 //! and the angular momentum's conjugate quaternion `2 q ⊗ (0, 0, 0, I ω)`
@@ -365,6 +366,13 @@ impl GsdWriter {
         self.chunk("particles/types", Type::I8, count, width, &rows)?;
         if world.particles().turns() {
             self.rotation(world, &by_id)?;
+        }
+        if !world.particles().tag().is_empty() {
+            let tags: Vec<u8> = by_id
+                .iter()
+                .flat_map(|(_, p)| p.tag.to_le_bytes())
+                .collect();
+            self.chunk("log/particles/tag", Type::U64, n as u64, 1, &tags)?;
         }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;

@@ -285,6 +285,10 @@ pub struct GasSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+    /// The discs' tag (`Particle::tag`: the user's own number, carried to every output);
+    /// default 0.
+    #[serde(default)]
+    pub tag: u64,
 }
 
 /// How a `[[gas]]` places its discs.
@@ -320,6 +324,10 @@ pub struct LatticeSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+    /// The discs' tag (`Particle::tag`: the user's own number, carried to every output);
+    /// default 0.
+    #[serde(default)]
+    pub tag: u64,
 }
 
 /// `[[block]]`: a rectangle filled with touching-free discs moving together.
@@ -345,6 +353,10 @@ pub struct BlockSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+    /// The discs' tag (`Particle::tag`: the user's own number, carried to every output);
+    /// default 0.
+    #[serde(default)]
+    pub tag: u64,
 }
 
 /// `[[disc]]`: one disc.
@@ -371,6 +383,10 @@ pub struct DiscSpec {
     /// default: the colour's name, or `A` without one.
     #[serde(default, rename = "type")]
     pub kind: Option<String>,
+    /// The discs' tag (`Particle::tag`: the user's own number, carried to every output);
+    /// default 0.
+    #[serde(default)]
+    pub tag: u64,
 }
 
 /// Discs read from a file ([`start`]), in file order, with their types.
@@ -817,6 +833,13 @@ fn line_of_key(source: &str, table: &str, key: &str) -> Option<usize> {
         }
     }
     None
+}
+
+/// Gives every disc of a table the table's tag.
+fn tag(discs: &mut [Particle], tag: u64) {
+    for disc in discs {
+        disc.tag = tag;
+    }
 }
 
 impl Scenario {
@@ -1356,6 +1379,7 @@ impl Scenario {
                     if spec.spin != 0.0 {
                         scene::spin(&mut discs, spec.spin, spec.seed);
                     }
+                    tag(&mut discs, spec.tag);
                     add(
                         discs,
                         (&spec.color, &spec.kind),
@@ -1367,13 +1391,14 @@ impl Scenario {
                 }
                 Entry::Lattice(k) => {
                     let spec = self.lattice[k].get_ref();
-                    let discs = scene::lattice(&Lattice {
+                    let mut discs = scene::lattice(&Lattice {
                         origin: spec.origin,
                         spacing: spec.spacing,
                         counts: spec.counts,
                         radius: spec.radius,
                         velocity: spec.velocity,
                     });
+                    tag(&mut discs, spec.tag);
                     add(
                         discs,
                         (&spec.color, &spec.kind),
@@ -1387,13 +1412,14 @@ impl Scenario {
                     let spec = self.block[k].get_ref();
                     let law = Law::new(&config);
                     let spacing = block_spacing(spec, &law);
-                    let discs = scene::lattice(&Lattice {
+                    let mut discs = scene::lattice(&Lattice {
                         origin: [spec.min[0] + spec.radius, spec.min[1] + spec.radius],
                         spacing: [spacing, spacing],
                         counts: block_counts(spec, &law),
                         radius: spec.radius,
                         velocity: spec.velocity,
                     });
+                    tag(&mut discs, spec.tag);
                     add(
                         discs,
                         (&spec.color, &spec.kind),
@@ -1422,6 +1448,7 @@ impl Scenario {
                     let disc = Particle {
                         mass: spec.mass,
                         angular_velocity: spec.angular_velocity,
+                        tag: spec.tag,
                         ..Particle::new(spec.position, spec.velocity, spec.radius)
                     };
                     add(

@@ -301,6 +301,7 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
                 mass: mass.as_ref().map(|m| m[k]),
                 angular_velocity,
                 orientation,
+                tag: 0,
             }
         })
         .collect();
@@ -379,6 +380,7 @@ fn read_csv(path: &Path) -> Result<FileDiscs, String> {
             },
             angular_velocity: number(7, Some(0.0))?,
             orientation: 0.0,
+            tag: 0,
         };
         disc.validate_values()
             .map_err(|e| format!("line {line}: {e}"))?;

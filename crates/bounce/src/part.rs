@@ -122,13 +122,16 @@ pub struct DiscRecord {
     pub angular_velocity: f64,
     /// Orientation.
     pub orientation: f64,
+    /// The user's tag.
+    pub tag: u64,
 }
 
 impl DiscRecord {
     /// How many `f64` words [`DiscRecord::to_words`] writes.
-    pub const WORDS: usize = 11;
+    pub const WORDS: usize = 12;
 
-    /// The record as words (ids and image counts are exact in an `f64`).
+    /// The record as words (ids and image counts are exact in an `f64`; the tag travels as
+    /// its bits).
     pub fn to_words(&self) -> [f64; Self::WORDS] {
         [
             f64::from(self.id.0),
@@ -142,6 +145,7 @@ impl DiscRecord {
             f64::from(self.image[1]),
             self.angular_velocity,
             self.orientation,
+            f64::from_bits(self.tag),
         ]
     }
 
@@ -156,6 +160,7 @@ impl DiscRecord {
             image: [w[7] as i32, w[8] as i32],
             angular_velocity: w[9],
             orientation: w[10],
+            tag: w[11].to_bits(),
         }
     }
 }

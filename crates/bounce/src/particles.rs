@@ -43,6 +43,11 @@ pub struct Particle {
     /// Default 0.
     #[serde(default)]
     pub orientation: f64,
+    /// The user's own number for the disc (a game's entity, a species, a label): it
+    /// follows the disc through every step, checkpoint and front end and changes nothing.
+    /// Default 0.
+    #[serde(default)]
+    pub tag: u64,
 }
 
 impl Particle {
@@ -55,7 +60,13 @@ impl Particle {
             mass: None,
             angular_velocity: 0.0,
             orientation: 0.0,
+            tag: 0,
         }
+    }
+
+    /// The same disc with `tag` ([`Particle::tag`]).
+    pub fn with_tag(self, tag: u64) -> Self {
+        Particle { tag, ..self }
     }
 
     /// Whether it spins or has turned: a world of smooth discs keeps no rotation state until
@@ -189,6 +200,9 @@ pub struct Particles {
     pub(crate) theta: Vec<f64>,
     /// Whether `omega` and `theta` are kept (then one per disc).
     pub(crate) turning: bool,
+    /// The users' tags: empty while every disc's is 0 (no step moves them then), one per
+    /// disc from the first non-zero one on.
+    pub(crate) tag: Vec<u64>,
 }
 
 impl Particles {
@@ -254,6 +268,26 @@ impl Particles {
         &self.theta
     }
 
+    /// The discs' tags ([`Particle::tag`]), or empty while every tag is 0.
+    pub fn tag(&self) -> &[u64] {
+        &self.tag
+    }
+
+    /// Disc `i`'s tag.
+    pub fn tag_of(&self, i: usize) -> u64 {
+        self.tag.get(i).copied().unwrap_or(0)
+    }
+
+    /// Sets disc `i`'s tag (keeping one per disc from the first non-zero one on).
+    pub(crate) fn set_tag(&mut self, i: usize, tag: u64) {
+        if self.tag.is_empty() && tag != 0 {
+            self.tag = vec![0; self.len()];
+        }
+        if let Some(t) = self.tag.get_mut(i) {
+            *t = tag;
+        }
+    }
+
     /// Whether the discs carry rotation state: some disc was given an angular velocity or
     /// an orientation, or the configuration is rough. Smooth discs that never turned have
     /// none, and their step never reads it.
@@ -279,6 +313,7 @@ impl Particles {
             mass: Some(self.mass[i]),
             angular_velocity: self.omega.get(i).copied().unwrap_or(0.0),
             orientation: self.theta.get(i).copied().unwrap_or(0.0),
+            tag: self.tag_of(i),
         })
     }
 
@@ -299,6 +334,17 @@ impl Particles {
         self.mass
             .push(p.mass.unwrap_or(std::f64::consts::PI * p.radius * p.radius));
         self.image.push([0, 0]);
+        self.push_tag(p.tag);
+    }
+
+    /// Appends the tag of a disc just pushed.
+    pub(crate) fn push_tag(&mut self, tag: u64) {
+        if !self.tag.is_empty() {
+            self.tag.push(tag);
+        } else if tag != 0 {
+            self.tag = vec![0; self.len()];
+            *self.tag.last_mut().expect("a disc") = tag;
+        }
     }
 
     /// Keeps the discs `keep` says (by storage index), in order; returns how many went.
@@ -319,6 +365,9 @@ impl Particles {
                     self.omega[to] = self.omega[i];
                     self.theta[to] = self.theta[i];
                 }
+                if !self.tag.is_empty() {
+                    self.tag[to] = self.tag[i];
+                }
                 to += 1;
             }
         }
@@ -337,6 +386,7 @@ impl Particles {
         self.image.truncate(len);
         self.omega.truncate(len);
         self.theta.truncate(len);
+        self.tag.truncate(len);
     }
 
     /// Reorders every array so that new index `k` holds old index `order[k]`. Each array is
@@ -395,6 +445,12 @@ impl Particles {
             let out: &mut [[i32; 2]] = bytemuck::cast_slice_mut(scratch.f64s(n));
             gather(&self.image, order, out, exec, |&v| v);
             self.image.copy_from_slice(out);
+        }
+        // (Empty while every tag is 0.)
+        if !self.tag.is_empty() {
+            let out: &mut [u64] = bytemuck::cast_slice_mut(scratch.f64s(n));
+            gather(&self.tag, order, out, exec, |&v| v);
+            self.tag.copy_from_slice(out);
         }
     }
 }

@@ -43,6 +43,24 @@ impl World {
             .collect()
     }
 
+    /// Sets the tag of particle `id` ([`crate::Particle::tag`]); fails on an unknown id.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let id = world.add_particle(Particle::new([0.0, 0.0], [1.0, 0.0], 0.5).with_tag(7))?;
+    /// world.step(0.1)?;
+    /// assert_eq!(world.particle(id).unwrap().tag, 7);
+    /// world.set_tag(id, 9)?;
+    /// assert_eq!(world.particle(id).unwrap().tag, 9);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn set_tag(&mut self, id: ParticleId, tag: u64) -> Result<(), ParticleError> {
+        let i = self.index_of(id).ok_or(ParticleError::UnknownId(id))?;
+        self.particles.set_tag(i, tag);
+        Ok(())
+    }
+
     /// Sets the velocity of particle `id` (for interactive tools). Fails on an unknown id or a
     /// non-finite velocity.
     pub fn set_velocity(

@@ -23,6 +23,7 @@ impl World {
             image: p.image()[i],
             angular_velocity: p.angular_velocity().get(i).copied().unwrap_or(0.0),
             orientation: p.orientation().get(i).copied().unwrap_or(0.0),
+            tag: p.tag_of(i),
         }
     }
 
@@ -212,6 +213,7 @@ impl World {
             p.omega.push(r.angular_velocity);
             p.theta.push(r.orientation);
         }
+        p.push_tag(r.tag);
     }
 
     /// After discs were pushed: ids, broadphase and measurements brought up to date (the

@@ -88,6 +88,12 @@ impl TryFrom<WorldState> for World {
                 p.theta.len()
             )));
         }
+        if !(p.tag.is_empty() || p.tag.len() == n) {
+            return Err(WorldError::Inconsistent(format!(
+                "{n} ids but {} tags",
+                p.tag.len()
+            )));
+        }
         // Ids are given in order and never again: `next_id` is the discs kept plus those
         // removed, and the ids are distinct and below it. Checked by sorting the ids (no
         // table sized by a number read from the data).
@@ -128,6 +134,7 @@ impl TryFrom<WorldState> for World {
                 mass: Some(p.mass[i]),
                 angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
                 orientation: p.theta.get(i).copied().unwrap_or(0.0),
+                tag: p.tag_of(i),
             };
             particle
                 .validate_values()
