@@ -17,24 +17,80 @@
 //!    kept for several steps (a skin), particles kept in cell order, contacts resolved in
 //!    parallel blocks.
 //!
+//! ## A tour
+//!
+//! **Make a world** from a [`Config`] (every field's default is the seed's behaviour) and
+//! add discs ([`Particle`]); each gets an id ([`ParticleId`]) that never changes.
+//!
 //! ```
-//! use bounce::{Boundary, Config, Particle, World};
+//! use bounce::{Boundary, Config, ContactKind, Particle, Region, Sensor, World};
 //!
 //! let config = Config {
 //!     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+//!     contact_events: true, // report contacts as they begin and end
+//!     sensors: vec![Sensor::new("right", Region::Box { min: [6.0, 0.0], max: [10.0, 10.0] })],
 //!     ..Config::default()
 //! };
 //! let mut world = World::new(config)?;
-//! world.add_particle(Particle::new([3.0, 5.0], [1.0, 0.0], 0.5))?;
-//! world.add_particle(Particle::new([7.0, 5.0], [-1.0, 0.0], 0.5))?;
-//! for _ in 0..200 {
-//!     world.step(0.01)?;
-//! }
-//! // Equal discs met head on and swapped velocities: momentum (mass = radius) is conserved.
-//! let p = world.stats().momentum;
-//! assert!(p[0].abs() < 1e-12 && p[1].abs() < 1e-12);
+//! let a = world.add_particle(Particle::new([3.0, 5.0], [1.0, 0.0], 0.5))?;
+//! let b = world.add_particle(Particle::new([7.0, 5.0], [-1.0, 0.0], 0.5).with_tag(42))?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! **Step it** by `dt` ([`World::step`]); each step reports its statistics ([`StepStats`]),
+//! the same bits on any thread count ([`World::set_threads`]).
+//!
+//! ```
+//! # use bounce::{Boundary, Config, ContactKind, Particle, Region, Sensor, World};
+//! # let config = Config {
+//! #     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+//! #     contact_events: true,
+//! #     sensors: vec![Sensor::new("right", Region::Box { min: [6.0, 0.0], max: [10.0, 10.0] })],
+//! #     ..Config::default()
+//! # };
+//! # let mut world = World::new(config)?;
+//! # let a = world.add_particle(Particle::new([3.0, 5.0], [1.0, 0.0], 0.5))?;
+//! # let b = world.add_particle(Particle::new([7.0, 5.0], [-1.0, 0.0], 0.5).with_tag(42))?;
+//! let mut began = Vec::new();
+//! for _ in 0..300 {
+//!     let stats = world.step(0.01)?;
+//!     // Equal discs meet head on and swap velocities: momentum (mass = radius) is kept.
+//!     assert!(stats.momentum[0].abs() < 1e-12);
+//!     // **Read events**: what began and ended touching in the step's substeps.
+//!     let events = world.contact_events().iter();
+//!     began.extend(events.filter(|e| e.kind == ContactKind::Begin).map(|e| (e.a, e.b)));
+//! }
+//! assert_eq!(began, vec![(a, bounce::Party::Disc(b))]);
+//! // They met at t = 1.5 and went back: the sensor saw `b` leave the right half and return.
+//! let right = &world.sensors()[0];
+//! assert_eq!((right.entered, right.left, right.inside), (2, 1, 1));
+//!
+//! // **Query** a snapshot: the discs in a circle, the nearest, the first a ray enters.
+//! let queries = world.queries();
+//! assert_eq!(queries.in_circle([7.0, 5.0], 1.0), vec![b]);
+//! let hit = queries.ray_cast([0.0, 5.0], [1.0, 0.0], 10.0).unwrap();
+//! assert!(hit.id == a && (hit.point[0] - 2.5).abs() < 0.02); // `a`'s edge, near x = 2.5
+//!
+//! // **Remove discs**; ids are never given again, tags follow their discs.
+//! assert_eq!(world.particle(b).unwrap().tag, 42);
+//! world.remove_particles(&[a]);
+//! assert_eq!(world.len(), 1);
+//!
+//! // **Save and load** with any serde format (postcard keeps every bit): the loaded world
+//! // continues exactly as this one does.
+//! let bytes = postcard::to_allocvec(&world)?;
+//! let mut loaded: World = postcard::from_bytes(&bytes)?;
+//! world.step(0.01)?;
+//! loaded.step(0.01)?;
+//! assert_eq!(world.state_hash(), loaded.state_hash());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Where to look next: [`Config`] for every option (walls, periodic boxes, gravity,
+//! substeps, the mass and restitution models, rough discs, obstacles, emitters, sinks,
+//! sensors, the event-driven [`Method`]); [`law`] for the collision law on its own;
+//! [`plain`] for the reference step the fast one equals bit for bit; [`query`] for spatial
+//! queries; [`scene`] for generators of gases and lattices.
 //!
 //! See `ARCHITECTURE.md` in the repository for the data flow of one step.
 
@@ -62,6 +118,11 @@ mod sources;
 mod stats;
 mod sum;
 mod world;
+
+/// The README's Rust examples, compiled and run as doctests so they cannot rot.
+#[doc = include_str!("../../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
 
 pub use config::{
     Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Method, Motion,
