@@ -378,6 +378,7 @@ impl ViewerApp {
         } else {
             RestingContacts::Bounce
         };
+        ui.checkbox(&mut config.contact_events, "flash impacts (contact events)");
         ui.label("rough discs (friction turns them)");
         ui.add(egui::Slider::new(&mut config.friction, 0.0..=1.0).text("friction"));
         ui.add(
@@ -478,6 +479,23 @@ impl ViewerApp {
             ui.label("state hash");
             ui.monospace(format!("{:016x}", self.session.world.state_hash()));
             ui.end_row();
+            let world = &self.session.world;
+            if world.config().contact_events {
+                ui.label("contacts begun / step");
+                let begun = (world.contact_events().iter())
+                    .filter(|e| e.kind == bounce::ContactKind::Begin)
+                    .count();
+                ui.label(begun.to_string());
+                ui.end_row();
+            }
+            for (sensor, count) in world.config().sensors.iter().zip(world.sensors()) {
+                ui.label(format!("sensor {}", sensor.name));
+                ui.label(format!(
+                    "{} inside · {} in · {} out",
+                    count.inside, count.entered, count.left
+                ));
+                ui.end_row();
+            }
         });
         ui.separator();
         ui.label("kinetic energy and |momentum|");

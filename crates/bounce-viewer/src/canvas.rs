@@ -5,13 +5,17 @@
 //! a software renderer (Mesa's llvmpipe). Filling each disc's pixels directly is linear in the
 //! pixels covered, needs no GPU features, and runs the same in a browser.
 
-use bounce::{Shape, World};
+use bounce::{ContactKind, Region, Shape, World};
 use bounce_scenario::Rgb;
 pub use bounce_scenario::palette::Palette;
 
 /// Background of the picture.
 pub const BACKGROUND: Rgb = [17, 20, 26];
 const BOX_EDGE: Rgb = [90, 96, 110];
+/// Sensor outlines.
+pub const SENSOR: Rgb = [110, 150, 230];
+/// Impacts of the last step (contact events' begins).
+pub const FLASH: Rgb = [255, 236, 120];
 
 /// Which part of the world is shown: a centre and a scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,6 +140,29 @@ impl Raster {
                 self.line(corners[k], corners[(k + 1) % 4], colour);
             }
         }
+        // Sensors outlined in blue.
+        for sensor in &config.sensors {
+            let outline: Vec<[f64; 2]> = match sensor.region {
+                Region::Box { min, max } => {
+                    vec![
+                        [min[0], min[1]],
+                        [max[0], min[1]],
+                        [max[0], max[1]],
+                        [min[0], max[1]],
+                    ]
+                }
+                Region::Circle { centre, radius } => (0..48)
+                    .map(|k| {
+                        let a = std::f64::consts::TAU * k as f64 / 48.0;
+                        [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+                    })
+                    .collect(),
+            };
+            let pixels: Vec<[f64; 2]> = outline.iter().map(|&c| view.to_pixel(c, w, h)).collect();
+            for k in 0..pixels.len() {
+                self.line(pixels[k], pixels[(k + 1) % pixels.len()], SENSOR);
+            }
+        }
         for (k, shape) in world.obstacle_shapes().iter().enumerate() {
             let colour = obstacle_colours
                 .get(k)
@@ -170,6 +197,23 @@ impl Raster {
                 let tip = [cx + r * theta.cos(), cy - r * theta.sin()];
                 self.line([cx, cy], tip, colour.map(|c| (c as f64 * 0.4) as u8));
             }
+        }
+        self.flash_impacts(world, view);
+    }
+
+    /// The contacts that began in the last step (with contact events on), a bright spot at
+    /// each contact point, larger for a harder impact (the step's hardest: four pixels).
+    fn flash_impacts(&mut self, world: &World, view: &View) {
+        let begins = || (world.contact_events().iter()).filter(|e| e.kind == ContactKind::Begin);
+        let hardest = begins().map(|e| e.normal_impulse).fold(0.0f64, f64::max);
+        if hardest <= 0.0 {
+            return;
+        }
+        let (w, h) = (self.width, self.height);
+        for event in begins() {
+            let [x, y] = view.to_pixel(event.point, w, h);
+            let r = 1.5 + 2.5 * (event.normal_impulse / hardest).sqrt();
+            self.disc(x, y, r, FLASH);
         }
     }
 
@@ -306,5 +350,62 @@ mod tests {
         assert_eq!(at([2.0, 5.0]), [90, 170, 110], "the emitter's left edge");
         assert_eq!(at([16.0, 2.0]), [190, 90, 90], "the sink's bottom edge");
         assert_eq!(at([16.0, 5.0]), BACKGROUND, "inside the sink");
+    }
+
+    #[test]
+    fn sensors_are_outlined_and_impacts_flash() {
+        let mut world = World::new(Config {
+            boundary: Boundary::walls([0.0, 0.0], [20.0, 10.0]),
+            contact_events: true,
+            sensors: vec![bounce::Sensor::new(
+                "gate",
+                Region::Box {
+                    min: [15.0, 2.0],
+                    max: [18.0, 8.0],
+                },
+            )],
+            ..Config::default()
+        })
+        .unwrap();
+        // Two discs meet head on at x = 10 in the step after 10.
+        world
+            .add_particle(Particle::new([5.0, 5.0], [1.0, 0.0], 2.0))
+            .unwrap();
+        world
+            .add_particle(Particle::new([15.0, 5.0], [-1.0, 0.0], 2.0))
+            .unwrap();
+        let view = View {
+            centre: [10.0, 5.0],
+            scale: 10.0,
+        };
+        let palette = Palette {
+            colour_by: ColorBy::Speed,
+            colours: Vec::new(),
+            speed_scale: 1.0,
+            radius_range: [1.0, 1.0],
+            spin_scale: 1.0,
+        };
+        let mut raster = Raster::new(200, 100);
+        let at = |raster: &Raster, p: [f64; 2]| {
+            let [x, y] = view.to_pixel(p, 200, 100);
+            let k = (y as usize * 200 + x as usize) * 4;
+            [raster.pixels[k], raster.pixels[k + 1], raster.pixels[k + 2]]
+        };
+        let mut flashed = false;
+        for _ in 0..80 {
+            world.step(0.1).unwrap();
+            raster.draw(&world, &view, &palette, &[]);
+            let contact = !world.contact_events().is_empty();
+            flashed |= contact && at(&raster, [10.0, 5.0]) == FLASH;
+            if !contact {
+                assert_ne!(
+                    at(&raster, [10.0, 5.0]),
+                    FLASH,
+                    "no flash without a contact"
+                );
+            }
+        }
+        assert!(flashed, "the impact flashed where the discs touched");
+        assert_eq!(at(&raster, [16.5, 2.0]), SENSOR, "the sensor's bottom edge");
     }
 }
