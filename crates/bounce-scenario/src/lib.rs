@@ -471,27 +471,8 @@ pub struct SensorSpec {
     /// Its name, unique among the sensors (letters, digits, `_` and `-`).
     pub name: String,
     /// A box `{ min, max }` or a circle `{ centre, radius }`.
-    pub region: SensorRegion,
-}
-
-/// A sensor's region: a box or a circle.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(try_from = "RegionFields")]
-pub enum SensorRegion {
-    /// `{ min = [x, y], max = [x, y] }`.
-    Box {
-        /// Lower-left corner.
-        min: [f64; 2],
-        /// Upper-right corner.
-        max: [f64; 2],
-    },
-    /// `{ centre = [x, y], radius = r }`.
-    Circle {
-        /// Centre.
-        centre: [f64; 2],
-        /// Radius.
-        radius: f64,
-    },
+    #[serde(deserialize_with = "sensor_region")]
+    pub region: bounce::Region,
 }
 
 /// A sensor region's keys as written, before they are known to make a box or a circle.
@@ -504,18 +485,16 @@ struct RegionFields {
     radius: Option<f64>,
 }
 
-impl TryFrom<RegionFields> for SensorRegion {
-    type Error = &'static str;
-
-    fn try_from(r: RegionFields) -> Result<Self, Self::Error> {
-        match (r.min, r.max, r.centre, r.radius) {
-            (Some(min), Some(max), None, None) => Ok(SensorRegion::Box { min, max }),
-            (None, None, Some(centre), Some(radius)) => Ok(SensorRegion::Circle { centre, radius }),
-            _ => Err(
-                "a sensor's region is a box { min = [x, y], max = [x, y] } or a circle \
-                      { centre = [x, y], radius = r }",
-            ),
-        }
+/// A sensor's region from its keys: a box or a circle, nothing in between.
+fn sensor_region<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bounce::Region, D::Error> {
+    let r = RegionFields::deserialize(d)?;
+    match (r.min, r.max, r.centre, r.radius) {
+        (Some(min), Some(max), None, None) => Ok(bounce::Region::Box { min, max }),
+        (None, None, Some(centre), Some(radius)) => Ok(bounce::Region::Circle { centre, radius }),
+        _ => Err(serde::de::Error::custom(
+            "a sensor's region is a box { min = [x, y], max = [x, y] } or a circle \
+             { centre = [x, y], radius = r }",
+        )),
     }
 }
 
@@ -909,16 +888,7 @@ impl Scenario {
             sensors: self
                 .sensor
                 .iter()
-                .map(|s| {
-                    let s = s.get_ref();
-                    let region = match s.region {
-                        SensorRegion::Box { min, max } => bounce::Region::Box { min, max },
-                        SensorRegion::Circle { centre, radius } => {
-                            bounce::Region::Circle { centre, radius }
-                        }
-                    };
-                    bounce::Sensor::new(s.name.clone(), region)
-                })
+                .map(|s| bounce::Sensor::new(s.get_ref().name.clone(), s.get_ref().region))
                 .collect(),
         }
     }

@@ -317,6 +317,17 @@ mod tests {
         assert_eq!(at(150, 20), &BACKGROUND);
     }
 
+    /// Colour by speed, nothing else set.
+    fn by_speed() -> Palette {
+        Palette {
+            colour_by: ColorBy::Speed,
+            colours: Vec::new(),
+            speed_scale: 1.0,
+            radius_range: [1.0, 1.0],
+            spin_scale: 1.0,
+        }
+    }
+
     #[test]
     fn emitter_and_sink_regions_are_outlined() {
         let world = World::new(Config {
@@ -333,13 +344,7 @@ mod tests {
             centre: [10.0, 5.0],
             scale: 10.0,
         };
-        let palette = Palette {
-            colour_by: ColorBy::Speed,
-            colours: Vec::new(),
-            speed_scale: 1.0,
-            radius_range: [1.0, 1.0],
-            spin_scale: 1.0,
-        };
+        let palette = by_speed();
         let mut raster = Raster::new(200, 100);
         raster.draw(&world, &view, &palette, &[]);
         let at = |p: [f64; 2]| {
@@ -378,13 +383,7 @@ mod tests {
             centre: [10.0, 5.0],
             scale: 10.0,
         };
-        let palette = Palette {
-            colour_by: ColorBy::Speed,
-            colours: Vec::new(),
-            speed_scale: 1.0,
-            radius_range: [1.0, 1.0],
-            spin_scale: 1.0,
-        };
+        let palette = by_speed();
         let mut raster = Raster::new(200, 100);
         let at = |raster: &Raster, p: [f64; 2]| {
             let [x, y] = view.to_pixel(p, 200, 100);
