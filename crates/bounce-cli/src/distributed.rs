@@ -40,7 +40,13 @@
 //! with 1; an error or a panic on one rank prints it and aborts the job (`MPI_Abort`).
 //! `BOUNCE_MPI_PANIC_AT=RANK:STEP` makes rank RANK panic after step STEP (for the tests).
 //!
-//! Not yet across ranks: obstacles, emitters and sinks, and the event-driven method
+//! **Contact events.** Each part keeps the contacts its tally counts (by the place of their
+//! disc `a`, as the sums do) as sightings; rank 0 gathers them after every step and turns
+//! them into `begin` and `end` events in the whole world's log (`bounce::ContactLog`), which
+//! the gathered world carries into `events.csv` and the checkpoints: the same bytes as one
+//! process.
+//!
+//! Not yet across ranks: obstacles, emitters, sinks and sensors, and the event-driven method
 //! (refused with a message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
@@ -52,8 +58,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use bounce::{
-    Boundary, DiscRecord, ExactSum, ParticleId, StepStats, StepSums, Tally, WallImpulse, World,
-    wrap_coordinate,
+    Boundary, ContactEvent, ContactKind, ContactLog, DiscRecord, ExactSum, ParticleId, Party,
+    StepStats, StepSums, Tally, WallImpulse, WallSide, World, wrap_coordinate,
 };
 use bounce_scenario::Session;
 use mpi::Count;
@@ -172,7 +178,6 @@ fn check_supported(session: &Session) -> Result<()> {
             config.method == bounce::Method::EventDriven,
             "time.method = \"event_driven\"",
         ),
-        (config.contact_events, "[output] events"),
         (!config.sensors.is_empty(), "[[sensor]]"),
     ];
     for (present, what) in refused {
@@ -236,6 +241,10 @@ fn run(
         let t = Instant::now();
         if let Some(outputs) = &mut outputs {
             outputs.stats.totals.add(&stats, &ranks.part.world, dt);
+            if let Some(log) = &ranks.contact_log {
+                let end = ranks.part.world.time();
+                outputs.contact_events(step, end, stats.substeps, log.events())?;
+            }
         }
         if schedule.any_due(step) {
             let whole = ranks.gather(&stats)?;
@@ -466,6 +475,9 @@ struct Ranks<'c> {
     clock: [f64; 4],
     /// Each step's wall time, all of it.
     step_times: Vec<f64>,
+    /// With contact events, on rank 0: the whole world's log, fed with every part's
+    /// sightings after each step.
+    contact_log: Option<ContactLog>,
 }
 
 impl<'c> Ranks<'c> {
@@ -502,6 +514,8 @@ impl<'c> Ranks<'c> {
             redistributions: 0,
             clock: [0.0; 4],
             step_times: Vec::new(),
+            contact_log: (whole.config().contact_events && comm.rank() == 0)
+                .then(|| whole.contact_log().clone()),
         };
         // Every rank holds every disc now: each takes its own share without messages.
         let all: Vec<DiscRecord> = whole
@@ -795,8 +809,47 @@ impl<'c> Ranks<'c> {
             self.refresh()?;
             self.clock[2] += t.elapsed().as_secs_f64();
         }
+        if self.part.world.config().contact_events {
+            self.gather_contacts(substeps);
+        }
         self.step_times.push(started.elapsed().as_secs_f64());
         Ok(merged)
+    }
+
+    /// Rank 0's log takes the step's contacts: the parts' sightings (each part sends the
+    /// contacts it counts), or with one rank the part's own log.
+    fn gather_contacts(&mut self, substeps: u32) {
+        let world = &mut self.part.world;
+        if self.part.tally.is_none() {
+            if let Some(log) = &mut self.contact_log {
+                *log = world.contact_log().clone();
+            }
+            return;
+        }
+        let threshold = world.config().contact_event_threshold;
+        let words: Vec<f64> = world
+            .take_contact_sightings()
+            .iter()
+            .flat_map(|(substep, e)| sighting_words(*substep, e))
+            .collect();
+        let root = self.comm.process_at_rank(0);
+        let count = words.len() as Count;
+        self.sent[3] += words.len() as u64 * 8;
+        let Some(log) = &mut self.contact_log else {
+            root.gather_into(&count);
+            root.gather_varcount_into(&words[..]);
+            return;
+        };
+        let mut counts = vec![0 as Count; self.comm.size() as usize];
+        root.gather_into_root(&count, &mut counts[..]);
+        let displs = displacements(&counts);
+        let mut all = vec![0.0; counts.iter().map(|&c| c as usize).sum()];
+        {
+            let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+            root.gather_varcount_into_root(&words[..], &mut partition);
+        }
+        let sightings = all.chunks_exact(SIGHTING_WORDS).map(sighting_of).collect();
+        log.record_step(sightings, substeps, threshold);
     }
 
     /// The records of the discs now in this rank's domain (each disc is in one, and its
@@ -928,6 +981,9 @@ impl<'c> Ranks<'c> {
         }
         whole.set_reported_stats(stats);
         whole.set_reported_friction_work(self.friction_work);
+        if let Some(log) = &self.contact_log {
+            whole.set_contact_log(log.clone());
+        }
         Ok(Some(whole))
     }
 
@@ -968,6 +1024,55 @@ impl<'c> Ranks<'c> {
 /// friction), from every
 /// part's, and the bytes this rank sent: the counts and the sums' lanes are integers added by
 /// one reduction, the non-finite parts by another (their sum does not depend on order either).
+/// Words a contact sighting travels as.
+const SIGHTING_WORDS: usize = 11;
+
+/// A part's contact sighting as words: the substep, the disc, the other party (its kind:
+/// 0 a disc, 1 a wall, 2 an obstacle; and which), the point, the normal, the impulses and
+/// the approach speed (ids and small integers are exact in an `f64`).
+fn sighting_words(substep: u32, e: &ContactEvent) -> [f64; SIGHTING_WORDS] {
+    let (kind, which) = match e.b {
+        Party::Disc(id) => (0.0, id.0),
+        Party::Wall(side) => (1.0, side as u32),
+        Party::Obstacle(k) => (2.0, k),
+    };
+    [
+        f64::from(substep),
+        f64::from(e.a.0),
+        kind,
+        f64::from(which),
+        e.point[0],
+        e.point[1],
+        e.normal[0],
+        e.normal[1],
+        e.normal_impulse,
+        e.tangent_impulse,
+        e.approach_speed,
+    ]
+}
+
+/// The sighting [`sighting_words`] wrote.
+fn sighting_of(w: &[f64]) -> (u32, ContactEvent) {
+    let which = w[3] as u32;
+    let b = match w[2] as u32 {
+        0 => Party::Disc(ParticleId(which)),
+        1 => Party::Wall(WallSide::ALL[which as usize % 4]),
+        _ => Party::Obstacle(which),
+    };
+    let event = ContactEvent {
+        kind: ContactKind::Begin,
+        substep: w[0] as u32,
+        a: ParticleId(w[1] as u32),
+        b,
+        point: [w[4], w[5]],
+        normal: [w[6], w[7]],
+        normal_impulse: w[8],
+        tangent_impulse: w[9],
+        approach_speed: w[10],
+    };
+    (event.substep, event)
+}
+
 fn add_sums(
     comm: &SimpleCommunicator,
     counts: [usize; 2],

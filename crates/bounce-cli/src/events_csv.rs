@@ -77,16 +77,30 @@ impl EventsCsv {
 
     /// The last step's events, once per step.
     pub fn step(&mut self, world: &World, dt: f64) -> Result<()> {
-        let step = world.step_count();
+        let (step, end) = (world.step_count(), world.time());
+        let substeps = world.stats().substeps;
+        self.write(step, end, dt, substeps, world.contact_events())
+    }
+
+    /// The `events` of step `step` of `dt` in `substeps`, ending at time `end`, once per
+    /// step.
+    pub fn write(
+        &mut self,
+        step: u64,
+        end: f64,
+        dt: f64,
+        substeps: u32,
+        events: &[ContactEvent],
+    ) -> Result<()> {
         if self.written == Some(step) || step == 0 {
             return Ok(());
         }
         self.written = Some(step);
-        let substeps = world.stats().substeps.max(1);
-        for event in world.contact_events() {
+        let substeps = substeps.max(1);
+        for event in events {
             // The end of the event's substep.
             let left = (substeps - 1 - event.substep) as f64;
-            let time = world.time() - dt * left / substeps as f64;
+            let time = end - dt * left / substeps as f64;
             self.row(step, time, event)?;
         }
         Ok(())

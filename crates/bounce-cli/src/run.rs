@@ -592,6 +592,22 @@ impl Outputs {
         Ok(())
     }
 
+    /// A distributed run's step `step` (ending at `end`, in `substeps`): its contact events,
+    /// from the whole world's log that rank 0 keeps.
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    pub(crate) fn contact_events(
+        &mut self,
+        step: u64,
+        end: f64,
+        substeps: u32,
+        events: &[bounce::ContactEvent],
+    ) -> Result<()> {
+        match &mut self.events {
+            Some(file) => file.write(step, end, self.dt, substeps, events),
+            None => Ok(()),
+        }
+    }
+
     /// Writes what is due at the world's current step.
     pub(crate) fn record(&mut self, world: &World) -> Result<()> {
         self.write(world, false)

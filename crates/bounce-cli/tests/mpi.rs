@@ -321,22 +321,41 @@ fn a_bad_scenario_is_reported_once_and_every_rank_exits() {
 }
 
 #[test]
-fn contact_events_are_refused_across_ranks_with_the_reason() {
+fn events_csv_is_one_processs_on_any_number_of_ranks_and_after_a_resume() {
+    // The 6,000-disc gas of the walls test: pairs across the domains' edges, discs handed
+    // over, walls on every side.
     let dir = tempfile::tempdir().unwrap();
-    let out = run(
+    let settings = [
+        "time.steps=60",
+        "gas.count=6000",
+        "world.max=[200.0, 200.0]",
+        "gas.radius=[0.3, 0.9]",
+        "output.events=true",
+    ];
+    let events = |ranks: Option<usize>, out: &str, extra: &[&str]| {
+        let mut args = sets(&settings);
+        args.extend_from_slice(extra);
+        ok(run(ranks, "gas.toml", &dir.path().join(out), &args), out);
+        std::fs::read(dir.path().join(out).join("events.csv")).unwrap()
+    };
+    let one = events(None, "one", &[]);
+    assert!(one.len() > 100_000, "{} bytes of events", one.len());
+    for r in 1..=3 {
+        let name = format!("ranks{r}");
+        assert!(
+            events(Some(r), &name, &[]) == one,
+            "{r} ranks: events.csv differs"
+        );
+    }
+    // Stopped at step 25 on three ranks, resumed on two.
+    events(Some(3), "resumed", &["--steps", "25"]);
+    let checkpoint = dir.path().join("resumed/checkpoint.bin");
+    let resumed = events(
         Some(2),
-        "gas.toml",
-        &dir.path().join("out"),
-        &sets(&["output.events=true"]),
+        "resumed",
+        &["--resume", checkpoint.to_str().unwrap()],
     );
-    assert!(!out.status.success());
-    assert_ne!(out.status.code(), Some(124), "not a hang (timeout)");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        stderr.contains("[output] events is not supported across MPI ranks yet"),
-        "{stderr}"
-    );
-    assert!(!dir.path().join("out/events.csv").exists());
+    assert!(resumed == one, "a resumed events.csv differs");
 }
 
 #[test]

@@ -19,6 +19,7 @@ use crate::config::Shape;
 use crate::geometry::Geometry;
 use crate::law::{COINCIDENT_NORMAL, Law, nearest};
 use crate::obstacles::Impacts;
+use crate::part::Tally;
 use crate::particles::{ParticleId, Particles};
 use crate::resolve::PairResolved;
 
@@ -146,9 +147,12 @@ pub(crate) struct Touch {
 #[derive(Clone, Copy, Debug)]
 struct Seen(ContactEvent);
 
-/// The contacts of the last substep, and the events of the last step.
+/// The contacts of the last substep, and the events of the last step: what turns the
+/// contacts seen in each substep into `begin` and `end` events. Every [`crate::World`] keeps
+/// one; a distributed run keeps the whole world's on one rank, fed with the parts' sightings
+/// ([`crate::World::take_contact_sightings`], [`ContactLog::record_step`]).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub(crate) struct ContactLog {
+pub struct ContactLog {
     /// The last substep's contacts, by `(a, b)`.
     touching: Vec<Touch>,
     /// The last step's events.
@@ -160,12 +164,48 @@ pub(crate) struct ContactLog {
     /// The discs' velocities before a stage that walls act in, in storage order.
     #[serde(skip)]
     before: Vec<[f64; 2]>,
+    /// In a part of a distributed world: the contacts this part counts (by the place of
+    /// their disc `a`), each with its substep, not yet compared with anything.
+    #[serde(skip)]
+    tally: Option<Tally>,
+    #[serde(skip)]
+    sightings: Vec<(u32, ContactEvent)>,
 }
 
 impl ContactLog {
+    /// An empty log.
+    pub fn new() -> ContactLog {
+        ContactLog::default()
+    }
+
     /// The last step's events, substep by substep, each substep's by `(a, b)`.
-    pub(crate) fn events(&self) -> &[ContactEvent] {
+    pub fn events(&self) -> &[ContactEvent] {
         &self.events
+    }
+
+    /// A step of `substeps` from the contacts its parts saw (each with its substep; in any
+    /// order of the parts, each part's own order kept): the events, exactly as one world's
+    /// log gives them.
+    pub fn record_step(
+        &mut self,
+        mut sightings: Vec<(u32, ContactEvent)>,
+        substeps: u32,
+        threshold: f64,
+    ) {
+        self.start_step(None);
+        sightings.sort_by_key(|(substep, s)| (*substep, s.a, s.b));
+        let mut rest = &sightings[..];
+        for substep in 0..substeps {
+            let n = rest.iter().take_while(|(k, _)| *k == substep).count();
+            self.seen.extend(rest[..n].iter().map(|(_, s)| Seen(*s)));
+            rest = &rest[n..];
+            self.end_substep(substep, threshold);
+        }
+    }
+
+    /// The contacts this part saw in its last step, for [`ContactLog::record_step`].
+    pub(crate) fn take_sightings(&mut self) -> Vec<(u32, ContactEvent)> {
+        std::mem::take(&mut self.sightings)
     }
 
     /// The contacts of the last substep.
@@ -195,16 +235,25 @@ impl ContactLog {
         None
     }
 
-    /// A step begins: the last one's events are forgotten.
-    pub(crate) fn start_step(&mut self) {
+    /// A step begins: the last one's events are forgotten. With `tally` (a part of a
+    /// distributed world) the substeps' contacts are kept as sightings instead.
+    pub(crate) fn start_step(&mut self, tally: Option<Tally>) {
         self.events.clear();
         self.seen.clear();
+        self.sightings.clear();
+        self.tally = tally;
     }
 
     /// A substep ends: what was seen is compared with the substep before, the contacts that
     /// began (with a normal impulse of at least `threshold`) and those that ended (whose
     /// begin was reported) become events.
     pub(crate) fn end_substep(&mut self, substep: u32, threshold: f64) {
+        if self.tally.is_some() {
+            let seen = std::mem::take(&mut self.seen);
+            self.sightings
+                .extend(seen.into_iter().map(|Seen(s)| (substep, s)));
+            return;
+        }
         let mut seen = std::mem::take(&mut self.seen);
         seen.sort_by_key(|s| (s.0.a, s.0.b));
         // One contact seen several times (a pair in several passes, a wall at the
@@ -287,6 +336,9 @@ impl ContactLog {
             0.5 * (one.mass * (out.v1[k] - one.velocity[k])
                 - two.mass * (out.v2[k] - two.velocity[k]))
         });
+        if self.tally.is_some_and(|t| !t.counts(at[0], at[1])) {
+            return;
+        }
         let share = one.radius / (one.radius + two.radius);
         let relative = [0, 1].map(|k| one.velocity[k] - two.velocity[k]);
         self.see(
@@ -331,6 +383,9 @@ impl ContactLog {
                 continue;
             }
             let (x, y, r) = (p.x[i], p.y[i], p.radius[i]);
+            if self.tally.is_some_and(|t| !t.counts(x, y)) {
+                continue;
+            }
             let touches = [
                 x <= min[0] + r,
                 x >= max[0] - r,

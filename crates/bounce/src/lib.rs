@@ -97,7 +97,7 @@
 mod broadphase;
 mod config;
 mod contact_events;
-pub use contact_events::{ContactEvent, ContactKind, Party, WallSide};
+pub use contact_events::{ContactEvent, ContactKind, ContactLog, Party, WallSide};
 mod contacts;
 pub use contacts::{order_block_start, order_cell_width};
 mod context;

@@ -65,7 +65,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     let emitted = world.emit(dt);
     world.broadphase.invalidate();
     // Contact events are the fast step's to report: a plain step reports none.
-    world.contact_log.start_step();
+    world.contact_log.start_step(None);
     let config = world.config.clone();
     let h = dt / substeps as f64;
     let rules = Rules::new(&config, h);

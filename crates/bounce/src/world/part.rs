@@ -9,6 +9,7 @@ use crate::stats::StepStats;
 use crate::sum::StepSums;
 
 use super::{World, WorldError};
+use crate::contact_events::ContactLog;
 
 impl World {
     /// The record of the disc at storage index `i`.
@@ -134,6 +135,24 @@ impl World {
     /// part of a distributed world, see [`Tally`].
     pub fn set_tally(&mut self, tally: Option<Tally>) {
         self.tally = tally;
+    }
+
+    /// In a part with a tally and contact events on: the contacts its last step saw that
+    /// the tally counts (by the place of their disc `a`), each with its substep, for the
+    /// whole world's [`ContactLog::record_step`]. Taken once.
+    pub fn take_contact_sightings(&mut self) -> Vec<(u32, crate::ContactEvent)> {
+        self.contact_log.take_sightings()
+    }
+
+    /// The contact log (the last substep's contacts and the last step's events).
+    pub fn contact_log(&self) -> &ContactLog {
+        &self.contact_log
+    }
+
+    /// Replaces the contact log: a distributed run's whole world takes the log its root
+    /// keeps, so its events, outputs and checkpoints are one process's.
+    pub fn set_contact_log(&mut self, log: ContactLog) {
+        self.contact_log = log;
     }
 
     /// Sizes the contact order's grid for discs up to `radius` (or this world's largest, if

@@ -231,7 +231,7 @@ impl<'w> Stages<'w> {
             ..
         } = world;
         let log = config.contact_events.then(|| {
-            contact_log.start_step();
+            contact_log.start_step(*tally);
             contact_log
         });
         let obstacles = obstacles.as_mut().expect("prepared");
