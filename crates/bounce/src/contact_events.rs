@@ -186,6 +186,26 @@ impl ContactLog {
     /// A step of `substeps` from the contacts its parts saw (each with its substep; in any
     /// order of the parts, each part's own order kept): the events, exactly as one world's
     /// log gives them.
+    ///
+    /// ```
+    /// use bounce::{ContactEvent, ContactKind, ContactLog, Party, ParticleId};
+    /// let seen = ContactEvent {
+    ///     kind: ContactKind::Begin,
+    ///     substep: 0,
+    ///     a: ParticleId(3),
+    ///     b: Party::Disc(ParticleId(8)),
+    ///     point: [1.0, 2.0],
+    ///     normal: [1.0, 0.0],
+    ///     normal_impulse: 0.5,
+    ///     tangent_impulse: 0.0,
+    ///     approach_speed: 1.0,
+    /// };
+    /// let mut log = ContactLog::new();
+    /// log.record_step(vec![(0, seen)], 1, 0.0); // seen: it begins
+    /// assert_eq!(log.events()[0].kind, ContactKind::Begin);
+    /// log.record_step(Vec::new(), 1, 0.0); // not seen: it ends
+    /// assert_eq!((log.events()[0].kind, log.events()[0].point), (ContactKind::End, [1.0, 2.0]));
+    /// ```
     pub fn record_step(
         &mut self,
         mut sightings: Vec<(u32, ContactEvent)>,

@@ -145,6 +145,19 @@ impl Queries {
 
     /// The discs overlapping the circle of `radius` around `centre` (centre distance at most
     /// `radius + r`), by id.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
+    ///     ..Config::default()
+    /// })?;
+    /// let edge = world.add_particle(Particle::new([9.5, 5.0], [0.0, 0.0], 0.4))?;
+    /// world.add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 0.4))?;
+    /// // Across the periodic edge: x = 9.5 is 1 from x = 0.5.
+    /// assert_eq!(world.queries().in_circle([0.5, 5.0], 0.7), vec![edge]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn in_circle(&self, centre: [f64; 2], radius: f64) -> Vec<ParticleId> {
         let centre = self.wrap(centre);
         let mut out = Vec::new();
@@ -162,6 +175,16 @@ impl Queries {
 
     /// The discs overlapping the box `[min, max]` (the box's nearest point to the centre at
     /// most `r` away), by id.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let a = world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.add_particle(Particle::new([3.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// // The box's corner (0.3, 0.3) is 0.42 from `a`'s centre: inside its radius.
+    /// assert_eq!(world.queries().in_box([0.3, 0.3], [2.0, 2.0]), vec![a]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn in_box(&self, min: [f64; 2], max: [f64; 2]) -> Vec<ParticleId> {
         let centre = self.wrap([0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1])]);
         let half = [0.5 * (max[0] - min[0]), 0.5 * (max[1] - min[1])];
@@ -181,6 +204,16 @@ impl Queries {
 
     /// The disc whose edge is nearest `point` and that distance (`|point − centre| − r`,
     /// negative inside); ties to the lower id. `None` without discs.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// let big = world.add_particle(Particle::new([4.0, 0.0], [0.0, 0.0], 2.0))?;
+    /// // Nearer the small disc's centre, nearer the big one's edge.
+    /// assert_eq!(world.queries().nearest([1.5, 0.0]), Some((big, 0.5)));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn nearest(&self, point: [f64; 2]) -> Option<(ParticleId, f64)> {
         let point = self.wrap(point);
         let mut best: Option<(f64, ParticleId)> = None;

@@ -24,7 +24,13 @@ pub enum Region {
 }
 
 impl Region {
-    /// Whether the point `p` is inside.
+    /// Whether the point `p` is inside (edges included).
+    ///
+    /// ```
+    /// use bounce::Region;
+    /// let ring = Region::Circle { centre: [0.0, 0.0], radius: 1.0 };
+    /// assert!(ring.contains([0.6, 0.8]) && !ring.contains([0.8, 0.8]));
+    /// ```
     #[inline]
     pub fn contains(&self, p: [f64; 2]) -> bool {
         match *self {
