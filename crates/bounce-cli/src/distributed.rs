@@ -1036,19 +1036,10 @@ fn sighting_words(substep: u32, e: &ContactEvent) -> [f64; SIGHTING_WORDS] {
         Party::Wall(side) => (1.0, side as u32),
         Party::Obstacle(k) => (2.0, k),
     };
-    [
-        f64::from(substep),
-        f64::from(e.a.0),
-        kind,
-        f64::from(which),
-        e.point[0],
-        e.point[1],
-        e.normal[0],
-        e.normal[1],
-        e.normal_impulse,
-        e.tangent_impulse,
-        e.approach_speed,
-    ]
+    let mut words = [0.0; SIGHTING_WORDS];
+    words[..4].copy_from_slice(&[f64::from(substep), f64::from(e.a.0), kind, f64::from(which)]);
+    words[4..].copy_from_slice(&e.numbers());
+    words
 }
 
 /// The sighting [`sighting_words`] wrote.

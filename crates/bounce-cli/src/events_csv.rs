@@ -118,19 +118,11 @@ impl EventsCsv {
                 )
             }
         };
-        writeln!(
-            self.file,
-            "{step},{time:?},{},{},{b},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            e.kind.name(),
-            e.a.0,
-            e.point[0],
-            e.point[1],
-            e.normal[0],
-            e.normal[1],
-            e.normal_impulse,
-            e.tangent_impulse,
-            e.approach_speed
-        )?;
+        write!(self.file, "{step},{time:?},{},{},{b}", e.kind.name(), e.a.0)?;
+        for v in e.numbers() {
+            write!(self.file, ",{v:?}")?;
+        }
+        writeln!(self.file)?;
         Ok(())
     }
 

@@ -132,6 +132,22 @@ pub struct ContactEvent {
     pub approach_speed: f64,
 }
 
+impl ContactEvent {
+    /// Its numbers in `events.csv`'s order: the point (x, y), the normal (x, y), the normal
+    /// and tangential impulses and the approach speed.
+    pub fn numbers(&self) -> [f64; 7] {
+        [
+            self.point[0],
+            self.point[1],
+            self.normal[0],
+            self.normal[1],
+            self.normal_impulse,
+            self.tangent_impulse,
+            self.approach_speed,
+        ]
+    }
+}
+
 /// A contact of the last substep, as the next one needs it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub(crate) struct Touch {
