@@ -15,7 +15,7 @@ pub(crate) const CHUNK: usize = 4096;
 
 /// Work below this size (about one unit per disc) runs on the calling thread by default:
 /// waking the pool costs more than it saves. Results never depend on where work runs.
-/// (A world this large runs its whole step on the pool, see [`Installer`], so no hand-over
+/// (A world this large runs its whole step on the pool, see `Installer`, so no hand-over
 /// is paid per stage: from a few ten thousand discs on a second thread pays, near 10,000 it
 /// breaks even or loses; BENCHMARKS.md has the gas at 10k and 100k.)
 pub const DEFAULT_PARALLEL_MIN_WORK: usize = 8_192;

@@ -2,13 +2,13 @@
 //! between collisions (straight lines, or parabolas under gravity), and each collision is
 //! resolved at the exact moment the centres come to the collision distance
 //! `(r_i + r_j) * collision_radius_scale`, with the seed's velocity update (the law's
-//! [`resolve_pair`]; the discs touch, so there is no push). No time step: no overlap, no
+//! [`resolve_pair`](crate::law::resolve_pair); the discs touch, so there is no push). No time step: no overlap, no
 //! pressure bias.
 //!
 //! **Algorithm.** Each disc keeps its state at its own last event (`time`); a cell grid
-//! ([`grid`]) with cells at least the largest collision distance wide tells which discs and
+//! (`grid`) with cells at least the largest collision distance wide tells which discs and
 //! obstacles it can meet, and a disc crossing a cell side is an event too. Each disc has
-//! one slot in the calendar ([`calendar`]): its earliest predicted event. When an event
+//! one slot in the calendar (`calendar`): its earliest predicted event. When an event
 //! changes a disc's velocity its count rises, so an event another disc predicted with it
 //! is stale and is predicted anew when it comes up; this is enough, because anything the
 //! changed disc will now meet first is in its own slot. A crossing changes no velocity and
