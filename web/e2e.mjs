@@ -61,6 +61,9 @@ try {
     result.resumed = await page.evaluate(() => window.bounce.status());
     await page.evaluate(() => window.bounce.open_builtin("gas"));
     result.hash_100 = await page.evaluate(() => window.bounce.run_to(100));
+    // Exact hard discs, the event-driven method, in the page's own build.
+    await page.evaluate(() => window.bounce.open_builtin("hard-discs"));
+    result.hard_20 = await page.evaluate(() => window.bounce.run_to(20));
   } else if (mode === "fps") {
     // Frame rate with 20,000 discs (for the record, not an assertion).
     await page.goto(`${url}/index.html?scenario=gas`);
@@ -96,6 +99,7 @@ try {
     await pastStep(page, "bounceFallback", stepOf(result.stepped) + 2);
     result.resumed = await page.evaluate(() => window.bounceFallback.status());
     result.hash_100 = await page.evaluate(() => window.bounceFallback.runTo("gas", 100));
+    result.hard_20 = await page.evaluate(() => window.bounceFallback.runTo("hard-discs", 20));
     result.galton_300 = await page.evaluate(() => window.bounceFallback.runTo("galton-board", 300));
     result.repose_2500 = await page.evaluate(() => window.bounceFallback.runTo("angle-of-repose", 2500));
     result.repose_turned = await page.evaluate(() => window.bounceFallback.turned("angle-of-repose", 300));

@@ -130,6 +130,13 @@ fn check_run(result: &serde_json::Value) {
         browser.starts_with(&native),
         "browser {browser:?} vs native {native:?}"
     );
+    // The event-driven method (exact hard discs) too.
+    let native = native_status("hard-discs", 20);
+    let browser = result["hard_20"].as_str().unwrap_or_default();
+    assert!(
+        browser.starts_with(&native),
+        "hard discs: browser {browser:?} vs native {native:?}"
+    );
     // Obstacles (a funnel, 375 pegs, bins) too.
     if let Some(browser) = result["galton_300"].as_str() {
         let native = native_status("galton-board", 300);
