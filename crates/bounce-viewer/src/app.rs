@@ -298,23 +298,19 @@ impl ViewerApp {
                     }
                 }
             });
-        ui.add(egui::Slider::new(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
+        ui.add(slider(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
         ui.separator();
         ui.label("physics (the seed's parameters)");
         let mut config = self.session.world.config().clone();
         let before = config.clone();
         ui.add(
-            egui::Slider::new(&mut config.collision_radius_scale, 0.5..=2.0)
-                .text("collision_radius_scale"),
+            slider(&mut config.collision_radius_scale, 0.5..=2.0).text("collision_radius_scale"),
         );
+        ui.add(slider(&mut config.coefficient_of_restitution, 0.0..=1.0).text("restitution"));
+        ui.add(slider(&mut config.gravity[0], -20.0..=20.0).text("gravity x"));
+        ui.add(slider(&mut config.gravity[1], -20.0..=20.0).text("gravity y"));
         ui.add(
-            egui::Slider::new(&mut config.coefficient_of_restitution, 0.0..=1.0)
-                .text("restitution"),
-        );
-        ui.add(egui::Slider::new(&mut config.gravity[0], -20.0..=20.0).text("gravity x"));
-        ui.add(egui::Slider::new(&mut config.gravity[1], -20.0..=20.0).text("gravity y"));
-        ui.add(
-            egui::Slider::new(&mut self.session.dt, 0.0005..=0.05)
+            slider(&mut self.session.dt, 0.0005..=0.05)
                 .logarithmic(true)
                 .text("dt"),
         );
@@ -330,14 +326,14 @@ impl ViewerApp {
             self.switch_method(method);
             return;
         }
-        ui.add(egui::Slider::new(&mut config.substeps, 1..=16).text("substeps"));
-        ui.add(egui::Slider::new(&mut config.solver_iterations, 1..=16).text("solver passes"));
+        ui.add(slider(&mut config.substeps, 1..=16).text("substeps"));
+        ui.add(slider(&mut config.solver_iterations, 1..=16).text("solver passes"));
         let mut adaptive = config.max_travel.is_some();
         ui.checkbox(&mut adaptive, "adaptive substeps (no tunnelling)");
         if adaptive {
             let mut travel = config.max_travel.unwrap_or(0.5);
             ui.add(
-                egui::Slider::new(&mut travel, 0.05..=2.0)
+                slider(&mut travel, 0.05..=2.0)
                     .logarithmic(true)
                     .text("max travel / r_min"),
             );
@@ -380,14 +376,11 @@ impl ViewerApp {
         };
         ui.checkbox(&mut config.contact_events, "flash impacts (contact events)");
         ui.label("rough discs (friction turns them)");
-        ui.add(egui::Slider::new(&mut config.friction, 0.0..=1.0).text("friction"));
+        ui.add(slider(&mut config.friction, 0.0..=1.0).text("friction"));
         ui.add(
-            egui::Slider::new(&mut config.tangential_restitution, -1.0..=1.0)
-                .text("tangential restitution"),
+            slider(&mut config.tangential_restitution, -1.0..=1.0).text("tangential restitution"),
         );
-        ui.add(
-            egui::Slider::new(&mut config.rolling_resistance, 0.0..=0.5).text("rolling resistance"),
-        );
+        ui.add(slider(&mut config.rolling_resistance, 0.0..=0.5).text("rolling resistance"));
         if config != before
             && let Err(e) = self.session.world.set_config(config)
         {
@@ -410,7 +403,7 @@ impl ViewerApp {
             );
         }
         ui.add(
-            egui::Slider::new(&mut self.spawn_radius, 0.05..=5.0)
+            slider(&mut self.spawn_radius, 0.05..=5.0)
                 .logarithmic(true)
                 .text("spawn radius"),
         );
@@ -966,6 +959,16 @@ fn save_checkpoint(_world: &World, _path: &std::path::Path) -> Result<(), String
     Err("no file system in the browser".into())
 }
 
+/// A slider that changes only what it edits: a scenario's value outside the slider's range
+/// (a `dt` of 0.1, 32 substeps) stays as the file has it instead of being clamped the
+/// first time the panel is drawn.
+fn slider<'a, N: egui::emath::Numeric>(
+    value: &'a mut N,
+    range: std::ops::RangeInclusive<N>,
+) -> egui::Slider<'a> {
+    egui::Slider::new(value, range).clamping(egui::SliderClamping::Edits)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1035,6 +1038,20 @@ mod tests {
         a.run_to(3);
         a.reset();
         assert_eq!(step_of(&a.status()), 0);
+    }
+
+    #[test]
+    fn drawing_the_controls_leaves_a_scenarios_values_alone() {
+        // The hard-discs template observes every 0.1, beyond the dt slider's 0.05.
+        let mut a = app("hard-discs");
+        let (dt, config) = (a.session.dt, a.session.world.config().clone());
+        let ctx = egui::Context::default();
+        for _ in 0..2 {
+            let output = ctx.run_ui(egui::RawInput::default(), |ui| a.controls(ui));
+            output.drop_without_applying_deltas();
+        }
+        assert_eq!(a.session.dt, 0.1);
+        assert_eq!((a.session.dt, a.session.world.config()), (dt, &config));
     }
 
     #[test]
