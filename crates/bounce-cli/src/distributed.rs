@@ -832,24 +832,13 @@ impl<'c> Ranks<'c> {
             .iter()
             .flat_map(|(substep, e)| sighting_words(*substep, e))
             .collect();
-        let root = self.comm.process_at_rank(0);
-        let count = words.len() as Count;
-        self.sent[3] += words.len() as u64 * 8;
-        let Some(log) = &mut self.contact_log else {
-            root.gather_into(&count);
-            root.gather_varcount_into(&words[..]);
+        let Some(all) = self.gather_words(&words) else {
             return;
         };
-        let mut counts = vec![0 as Count; self.comm.size() as usize];
-        root.gather_into_root(&count, &mut counts[..]);
-        let displs = displacements(&counts);
-        let mut all = vec![0.0; counts.iter().map(|&c| c as usize).sum()];
-        {
-            let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-            root.gather_varcount_into_root(&words[..], &mut partition);
-        }
         let sightings = all.chunks_exact(SIGHTING_WORDS).map(sighting_of).collect();
-        log.record_step(sightings, substeps, threshold);
+        if let Some(log) = &mut self.contact_log {
+            log.record_step(sightings, substeps, threshold);
+        }
     }
 
     /// The records of the discs now in this rank's domain (each disc is in one, and its
@@ -945,34 +934,20 @@ impl<'c> Ranks<'c> {
     /// The whole world on rank 0 (its discs gathered from their owners), reporting `stats`;
     /// `None` on the other ranks.
     fn gather(&mut self, stats: &StepStats) -> Result<Option<World>> {
-        let world = &self.part.world;
         let words: Vec<f64> = self
             .in_my_domain()
             .iter()
             .flat_map(DiscRecord::to_words)
             .collect();
-        let root = self.comm.process_at_rank(0);
-        let count = words.len() as Count;
-        self.sent[3] += words.len() as u64 * 8;
-        if self.comm.rank() != 0 {
-            root.gather_into(&count);
-            root.gather_varcount_into(&words[..]);
+        let Some(all) = self.gather_words(&words) else {
             return Ok(None);
-        }
-        let mut counts = vec![0 as Count; self.size()];
-        root.gather_into_root(&count, &mut counts[..]);
-        let displs = displacements(&counts);
-        let mut all = vec![0.0; counts.iter().map(|&c| c as usize).sum()];
-        {
-            let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-            root.gather_varcount_into_root(&words[..], &mut partition);
-        }
+        };
         let mut records: Vec<DiscRecord> = all
             .chunks_exact(DiscRecord::WORDS)
             .map(DiscRecord::from_words)
             .collect();
         records.sort_unstable_by_key(|r| r.id);
-        let mut whole = world.part(&records).context("assembling the whole world")?;
+        let mut whole = (self.part.world.part(&records)).context("assembling the whole world")?;
         let (energy, momentum) = bounce_scenario::analysis::motion_sums(&whole);
         let mut stats = *stats;
         (stats.kinetic_energy, stats.momentum) = (energy, momentum);
@@ -985,6 +960,25 @@ impl<'c> Ranks<'c> {
             whole.set_contact_log(log.clone());
         }
         Ok(Some(whole))
+    }
+
+    /// Every rank's `words`, in rank order, on rank 0 (`None` on the others).
+    fn gather_words(&mut self, words: &[f64]) -> Option<Vec<f64>> {
+        let root = self.comm.process_at_rank(0);
+        let count = words.len() as Count;
+        self.sent[3] += words.len() as u64 * 8;
+        if self.comm.rank() != 0 {
+            root.gather_into(&count);
+            root.gather_varcount_into(words);
+            return None;
+        }
+        let mut counts = vec![0 as Count; self.size()];
+        root.gather_into_root(&count, &mut counts[..]);
+        let displs = displacements(&counts);
+        let mut all = vec![0.0; counts.iter().map(|&c| c as usize).sum()];
+        let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+        root.gather_varcount_into_root(words, &mut partition);
+        Some(all)
     }
 
     /// Bytes sent per rank per step (means over the ranks), and how often discs moved.

@@ -96,12 +96,8 @@ impl EventsCsv {
             return Ok(());
         }
         self.written = Some(step);
-        let substeps = substeps.max(1);
         for event in events {
-            // The end of the event's substep.
-            let left = (substeps - 1 - event.substep) as f64;
-            let time = end - dt * left / substeps as f64;
-            self.row(step, time, event)?;
+            self.row(step, event.time(end, dt, substeps), event)?;
         }
         Ok(())
     }

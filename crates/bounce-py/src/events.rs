@@ -19,11 +19,10 @@ impl Recorded {
     /// After one step of `dt`: its events.
     pub(crate) fn add(&mut self, world: &RustWorld, dt: f64) {
         let step = world.step_count();
-        let substeps = world.stats().substeps.max(1);
+        let substeps = world.stats().substeps;
         for event in world.contact_events() {
-            let left = (substeps - 1 - event.substep) as f64;
-            let time = world.time() - dt * left / substeps as f64;
-            self.0.push((step, time, *event));
+            self.0
+                .push((step, event.time(world.time(), dt, substeps), *event));
         }
     }
 

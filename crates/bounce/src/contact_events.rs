@@ -133,6 +133,14 @@ pub struct ContactEvent {
 }
 
 impl ContactEvent {
+    /// When its substep ended, in a step of `dt` in `substeps` that ended at `step_end`
+    /// (`World::time()` after the step).
+    pub fn time(&self, step_end: f64, dt: f64, substeps: u32) -> f64 {
+        let substeps = substeps.max(1);
+        let left = substeps.saturating_sub(1 + self.substep) as f64;
+        step_end - dt * left / substeps as f64
+    }
+
     /// Its numbers in `events.csv`'s order: the point (x, y), the normal (x, y), the normal
     /// and tangential impulses and the approach speed.
     pub fn numbers(&self) -> [f64; 7] {
@@ -159,10 +167,6 @@ pub(crate) struct Touch {
     reported: bool,
 }
 
-/// A contact as a stage saw it in this substep (`kind` unused until the substep ends).
-#[derive(Clone, Copy, Debug)]
-struct Seen(ContactEvent);
-
 /// The contacts of the last substep, and the events of the last step: what turns the
 /// contacts seen in each substep into `begin` and `end` events. Every [`crate::World`] keeps
 /// one; a distributed run keeps the whole world's on one rank, fed with the parts' sightings
@@ -174,9 +178,9 @@ pub struct ContactLog {
     /// The last step's events.
     #[serde(skip)]
     events: Vec<ContactEvent>,
-    /// What the stages saw in this substep.
+    /// What the stages saw in this substep (`kind` unused until the substep ends).
     #[serde(skip)]
-    seen: Vec<Seen>,
+    seen: Vec<ContactEvent>,
     /// The discs' velocities before a stage that walls act in, in storage order.
     #[serde(skip)]
     before: Vec<[f64; 2]>,
@@ -233,7 +237,7 @@ impl ContactLog {
         let mut rest = &sightings[..];
         for substep in 0..substeps {
             let n = rest.iter().take_while(|(k, _)| *k == substep).count();
-            self.seen.extend(rest[..n].iter().map(|(_, s)| Seen(*s)));
+            self.seen.extend(rest[..n].iter().map(|(_, s)| *s));
             rest = &rest[n..];
             self.end_substep(substep, threshold);
         }
@@ -287,16 +291,16 @@ impl ContactLog {
         if self.tally.is_some() {
             let seen = std::mem::take(&mut self.seen);
             self.sightings
-                .extend(seen.into_iter().map(|Seen(s)| (substep, s)));
+                .extend(seen.into_iter().map(|s| (substep, s)));
             return;
         }
         let mut seen = std::mem::take(&mut self.seen);
-        seen.sort_by_key(|s| (s.0.a, s.0.b));
+        seen.sort_by_key(|s| (s.a, s.b));
         // One contact seen several times (a pair in several passes, a wall at the
         // integration and as a contact): the impulses add, the first sight's geometry and
         // approach stay.
         let mut now: Vec<ContactEvent> = Vec::with_capacity(seen.len());
-        for Seen(s) in seen {
+        for s in seen {
             match now.last_mut() {
                 Some(last) if (last.a, last.b) == (s.a, s.b) => {
                     last.normal_impulse += s.normal_impulse;
@@ -507,7 +511,7 @@ impl ContactLog {
         approach_speed: f64,
     ) {
         let tangent = [-normal[1], normal[0]];
-        self.seen.push(Seen(ContactEvent {
+        self.seen.push(ContactEvent {
             kind: ContactKind::Begin,
             substep: 0,
             a,
@@ -517,7 +521,7 @@ impl ContactLog {
             normal_impulse: -dot(impulse, normal),
             tangent_impulse: dot(impulse, tangent),
             approach_speed,
-        }));
+        });
     }
 }
 

@@ -47,15 +47,7 @@ impl Region {
     /// What is wrong with it, if anything: the value and what it must be.
     pub(crate) fn problem(&self) -> Option<(String, &'static str)> {
         match *self {
-            Region::Box { min, max } => {
-                let finite = min.iter().chain(&max).all(|v| v.is_finite());
-                (!(finite && min[0] < max[0] && min[1] < max[1])).then(|| {
-                    (
-                        format!("min {min:?}, max {max:?}"),
-                        "a box must be finite with min below max",
-                    )
-                })
-            }
+            Region::Box { min, max } => super::sources::region_problem(min, max),
             Region::Circle { centre, radius } => {
                 let ok = centre.iter().all(|v| v.is_finite()) && radius.is_finite() && radius > 0.0;
                 (!ok).then(|| {

@@ -103,8 +103,9 @@ impl Sink {
     }
 }
 
-/// What is wrong with the rectangle `[min, max]` of an emitter or a sink, if anything.
-fn region_problem(min: [f64; 2], max: [f64; 2]) -> Option<(String, &'static str)> {
+/// What is wrong with the rectangle `[min, max]` of an emitter, a sink or a sensor, if
+/// anything.
+pub(super) fn region_problem(min: [f64; 2], max: [f64; 2]) -> Option<(String, &'static str)> {
     let ok = min.iter().chain(&max).all(|v| v.is_finite()) && min[0] < max[0] && min[1] < max[1];
     (!ok).then(|| {
         (
