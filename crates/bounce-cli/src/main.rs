@@ -1,5 +1,6 @@
 //! `bounce`: run scenarios headless, start new ones from templates, check files.
 
+mod analyze;
 mod checkpoint;
 #[cfg(feature = "mpi")]
 mod distributed;
@@ -88,6 +89,29 @@ enum Command {
         /// Where the plot goes.
         #[arg(long, default_value = "validate")]
         out: PathBuf,
+    },
+    /// The structure of a GSD trajectory: g(r) (rdf.csv), the global bond order |ψ6| per
+    /// frame (psi6.csv) and the mean-square displacement (msd.csv), each with a PNG.
+    Analyze {
+        /// The GSD trajectory (bounce's, HOOMD-blue's or any `hoomd` schema file).
+        trajectory: PathBuf,
+        /// Output directory (created if missing; its rdf, psi6 and msd files are replaced).
+        #[arg(long, default_value = "analysis")]
+        out: PathBuf,
+        /// The first frame used (negative counts from the end: -10 is the last ten).
+        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+        first: i64,
+        /// g(r) up to this distance, in mean diameters (default 5, or as far as the box
+        /// allows).
+        #[arg(long, allow_negative_numbers = true)]
+        r_max: Option<f64>,
+        /// g(r)'s bin width, in mean diameters.
+        #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
+        bin: f64,
+        /// How the box ends, where the file does not say or says wrong (bounce's files
+        /// record it; HOOMD-blue's boxes are periodic).
+        #[arg(long, value_parser = ["periodic", "walls", "open"])]
+        boundary: Option<String>,
     },
     /// Validate a scenario file and report every problem with its line.
     Check {
@@ -298,6 +322,30 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         } else {
             ExitCode::FAILURE
         }),
+        Command::Analyze {
+            trajectory,
+            out,
+            first,
+            r_max,
+            bin,
+            boundary,
+        } => {
+            use bounce_scenario::structure::Edges;
+            let edges = boundary.map(|b| match b.as_str() {
+                "walls" => Edges::Walls,
+                "open" => Edges::Open,
+                _ => Edges::Periodic,
+            });
+            analyze::analyze(&analyze::Request {
+                trajectory: &trajectory,
+                out: &out,
+                first,
+                r_max,
+                bin,
+                edges,
+            })?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Check { scenario, steer } => {
             let (text, origin, limits) = steer.apply(&scenario)?;
             let session =

@@ -412,3 +412,75 @@ fn histogram<DB: DrawingBackend>(
     legend(&mut chart, 14)?;
     Ok(())
 }
+
+/// One curve through `points`, drawn into `path` (a PNG, atomically): `bounce analyze`'s
+/// g(r), |ψ6| and MSD. With `log`, both axes are logarithmic (points not above 0 left out);
+/// `level` draws a dashed horizontal line (g = 1).
+pub fn curve(
+    path: &Path,
+    caption: &str,
+    (x_desc, y_desc): (&str, &str),
+    points: &[(f64, f64)],
+    log: bool,
+    level: Option<f64>,
+) -> Result<()> {
+    register_font()?;
+    let points: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|(x, y)| x.is_finite() && y.is_finite() && (!log || (*x > 0.0 && *y > 0.0)))
+        .collect();
+    let (w, h) = (800u32, 520u32);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut x = axis_range(points.iter().map(|p| p.0));
+        let mut y = axis_range(points.iter().map(|p| p.1).chain(level));
+        let line =
+            |chart_points: Vec<(f64, f64)>| LineSeries::new(chart_points, BLUE.stroke_width(2));
+        if log {
+            let positive = |(lo, hi): (f64, f64), values: &mut dyn Iterator<Item = f64>| {
+                let lo = values
+                    .fold(f64::INFINITY, f64::min)
+                    .min(hi)
+                    .max(lo.max(f64::MIN_POSITIVE));
+                (lo / 1.5, hi * 1.5)
+            };
+            x = positive(x, &mut points.iter().map(|p| p.0));
+            y = positive(y, &mut points.iter().map(|p| p.1));
+            let mut chart = ChartBuilder::on(&root)
+                .caption(caption, ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(36)
+                .y_label_area_size(84)
+                .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale())
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc(y_desc)
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
+                .label_style(("sans-serif", 13))
+                .draw()
+                .map_err(plot_err)?;
+            chart.draw_series(line(points)).map_err(plot_err)?;
+        } else {
+            let mut chart = xy_chart(&root, caption, (x.0..x.1, x_desc), (y.0..y.1, y_desc))?;
+            if let Some(level) = level {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        [(x.0, level), (x.1, level)],
+                        6,
+                        4,
+                        BLACK.stroke_width(1),
+                    ))
+                    .map_err(plot_err)?;
+            }
+            chart.draw_series(line(points)).map_err(plot_err)?;
+        }
+        root.present().map_err(plot_err)?;
+    }
+    save_rgb(&rgb, w, h, path)
+}

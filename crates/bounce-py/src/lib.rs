@@ -8,6 +8,7 @@
 //! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
 //! | `obstacle.rs` | `Obstacle` (segments, pegs; fixed or moving), `polyline`, `rectangle` |
 //! | `sources.rs` | `Emitter` and `Sink`: discs added and removed during a run |
+//! | `structure.rs` | `rdf`, `psi6`, `msd`: a GSD trajectory's structure, as `bounce analyze` |
 
 use pyo3::prelude::*;
 
@@ -17,6 +18,7 @@ mod gsd;
 mod obstacle;
 mod query;
 mod sources;
+mod structure;
 mod world;
 
 /// The compiled core of the `bounce` package.
@@ -33,6 +35,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<query::Queries>()?;
     m.add_function(wrap_pyfunction!(obstacle::polyline, m)?)?;
     m.add_function(wrap_pyfunction!(obstacle::rectangle, m)?)?;
+    m.add_function(wrap_pyfunction!(structure::rdf, m)?)?;
+    m.add_function(wrap_pyfunction!(structure::psi6, m)?)?;
+    m.add_function(wrap_pyfunction!(structure::msd, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

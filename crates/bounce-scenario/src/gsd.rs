@@ -8,8 +8,9 @@
 //!
 //! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
 //! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
-//! order, and `log/kinetic_energy`; where any disc has a tag (`Particle::tag`),
-//! `log/particles/tag` (`uint64`, id order). Where discs turn (rough or spinning), also
+//! order, and `log/kinetic_energy`; in frame 0, `log/bounce/boundary` (a `uint8`: 0 an open
+//! world, 1 walls, 2 a periodic box: how `bounce analyze` reads the box); where any disc has
+//! a tag (`Particle::tag`), `log/particles/tag` (`uint64`, id order). Where discs turn (rough or spinning), also
 //! `particles/{moment_inertia,orientation,angmom}` as HOOMD-blue writes rotation about z:
 //! the moment of inertia `(0, 0, I)`, the orientation quaternion `(cos θ/2, 0, 0, sin θ/2)`
 //! and the angular momentum's conjugate quaternion `2 q ⊗ (0, 0, 0, I ω)`
@@ -376,6 +377,15 @@ impl GsdWriter {
         }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
+        if self.frame == 0 {
+            // How the box ends, for `bounce analyze` (HOOMD's boxes are all periodic).
+            let edges: u8 = match world.config().boundary {
+                Boundary::Open => 0,
+                Boundary::Walls { .. } => 1,
+                Boundary::Periodic { .. } => 2,
+            };
+            self.chunk(crate::trajectory::BOUNDARY_CHUNK, Type::U8, 1, 1, &[edges])?;
+        }
         self.frame += 1;
         Ok(())
     }

@@ -32,6 +32,9 @@ pub mod palette;
 mod session;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod start;
+pub mod structure;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod trajectory;
 pub use colour::{Rgb, parse_colour, ramp, spin_ramp};
 pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;

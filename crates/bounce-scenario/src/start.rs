@@ -100,7 +100,7 @@ pub fn count(path: &Path, frame: i64) -> Option<u64> {
 }
 
 /// The frame index `frame` names (negative: from the end).
-fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, String> {
+pub(crate) fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, String> {
     let frames = entries.iter().map(|e| e.frame + 1).max().unwrap_or(0);
     let chosen = if frame < 0 {
         frames as i64 + frame
@@ -120,7 +120,7 @@ fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, String> {
 }
 
 /// The entry of chunk `name` in frame `frame`, else in frame 0 (the schema's rule).
-fn find<'a>(
+pub(crate) fn find<'a>(
     names: &[String],
     entries: &'a [RawEntry],
     name: &str,
@@ -132,7 +132,7 @@ fn find<'a>(
 }
 
 /// A chunk's values as `f64`, `m` per row, checking its shape.
-fn floats(
+pub(crate) fn floats(
     file: &mut std::fs::File,
     chunk: &RawEntry,
     name: &str,

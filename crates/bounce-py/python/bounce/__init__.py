@@ -20,7 +20,9 @@ Obstacles (segments and pegs, fixed or moving) go in ``Config(obstacles=[...])``
 (ids are never reused; arrays in id order skip the removed ones); ``Config(sensors=[Sensor(...)])``
 count the discs entering and leaving regions (``World.sensors``), and
 ``Config(contact_events=True)`` records what began and ended touching
-(``World.contact_events()``).
+(``World.contact_events()``). ``rdf``, ``psi6`` and ``msd`` read a GSD trajectory's
+structure (g(r), the bond order |ψ6| per frame, the mean-square displacement), as
+``bounce analyze`` does.
 
 Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView`,
 :class:`GSDWriter`.
@@ -37,7 +39,10 @@ from ._native import (
     StorageView,
     World,
     __version__,
+    msd,
     polyline,
+    psi6,
+    rdf,
     rectangle,
 )
 
@@ -53,5 +58,8 @@ __all__ = [
     "Queries",
     "StorageView",
     "GSDWriter",
+    "rdf",
+    "psi6",
+    "msd",
     "__version__",
 ]

@@ -339,3 +339,29 @@ class World:
     def ids(self) -> npt.NDArray[np.uint32]: ...
     def storage_view(self) -> StorageView: ...
     def __len__(self) -> int: ...
+
+def rdf(
+    path: _Path,
+    r_max: Optional[float] = None,
+    bin: Optional[float] = None,
+    first: int = 0,
+    boundary: Optional[Literal["periodic", "walls", "open"]] = None,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """g(r) of a GSD trajectory's frames from ``first``: ``(r, g)`` (bin centres, g)."""
+    ...
+
+def psi6(
+    path: _Path,
+    first: int = 0,
+    boundary: Optional[Literal["periodic", "walls", "open"]] = None,
+) -> Tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64]]:
+    """The global bond order |ψ6| of each frame from ``first``: ``(steps, psi6)``."""
+    ...
+
+def msd(
+    path: _Path,
+    first: int = 0,
+    boundary: Optional[Literal["periodic", "walls", "open"]] = None,
+) -> Tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64]]:
+    """The mean-square displacement over every origin: ``(lags in steps, msd)``."""
+    ...
