@@ -21,6 +21,9 @@
 //! entered and left its region since the previous row; a disc a sink removes inside it
 //! leaves) and `sensor_NAME_count` (the discs inside now).
 //!
+//! A thermostat (`[world] thermostat`) adds `thermostat_work`: the kinetic energy it added
+//! since the previous row (negative where it took energy away).
+//!
 //! Rough or spinning discs (`[world] friction`, `[[disc]] angular_velocity`, `[[gas]] spin`)
 //! add `rotational_energy` (`Σ ½ I ω²`), `angular_momentum` (about the origin, orbital and
 //! spin) and `friction_work` (the energy friction and rolling resistance removed since the
@@ -71,6 +74,8 @@ pub struct ScenarioColumns {
     rotation: bool,
     /// The sensors' names.
     sensors: Vec<String>,
+    /// Whether to write `thermostat_work`.
+    thermostat: bool,
 }
 
 impl ScenarioColumns {
@@ -83,6 +88,7 @@ impl ScenarioColumns {
                 .map(|s| s.name.clone())
                 .collect(),
             work: groups.iter().any(|g| g.moving),
+            thermostat: session.world.config().thermostat.is_some(),
             groups: groups
                 .into_iter()
                 .filter_map(|g| Some((g.name?, g.range, g.moving)))
@@ -113,6 +119,9 @@ impl ScenarioColumns {
             for what in ["in", "out", "count"] {
                 out.push(format!("sensor_{name}_{what}"));
             }
+        }
+        if self.thermostat {
+            out.push("thermostat_work".into());
         }
         out
     }
@@ -157,6 +166,9 @@ impl ScenarioColumns {
             let [entered, left] = totals.sensor_crossings.get(k).copied().unwrap_or([0, 0]);
             out.extend([entered, left, count.inside as u64].map(|v| v.to_string()));
         }
+        if self.thermostat {
+            out.push(totals.thermostat_work.to_string());
+        }
         out
     }
 }
@@ -188,6 +200,7 @@ impl Totals {
             t.contacts += stats.pairs as u64;
             t.wall_impulse += stats.wall_impulse.total();
             t.max_overlap = t.max_overlap.max(stats.max_overlap);
+            t.thermostat_work += stats.thermostat_work;
             t.elapsed += dt;
             t.obstacle_impulse.resize(impulses.len(), [0.0; 2]);
             for (sum, j) in t.obstacle_impulse.iter_mut().zip(impulses) {

@@ -798,3 +798,62 @@ fn bad_runs_fail_cleanly() {
     assert_eq!(code, 1);
     assert!(stderr.contains("--threads"), "{stderr}");
 }
+
+#[test]
+fn a_thermostat_adds_its_column_balances_the_energy_and_resumes_byte_for_byte() {
+    let s = Scratch::new();
+    let scenario = s.path("gas.toml");
+    let (code, _, stderr) = output(bounce().args(["new", "gas", "--out"]).arg(&scenario));
+    assert_eq!(code, 0, "{stderr}");
+    let run = |out: &str, extra: &[&str]| {
+        let (code, _, stderr) = output(
+            bounce()
+                .arg("run")
+                .arg(&scenario)
+                .args([
+                    "--set",
+                    "world.thermostat={ kind = \"white_noise\", temperature = 1.0, rate = 0.5, seed = 2 }",
+                    "--set",
+                    "output.frame_every=0",
+                    "--set",
+                    "output.gif=false",
+                    "--quiet",
+                    "--out",
+                ])
+                .arg(s.path(out))
+                .args(extra),
+        );
+        assert_eq!(code, 0, "{stderr}");
+        std::fs::read_to_string(s.path(out).join("stats.csv")).unwrap()
+    };
+    let one = run("one", &["--steps", "60", "--threads", "1"]);
+    assert!(one == run("two", &["--steps", "60", "--threads", "2"]));
+    run("resumed", &["--steps", "25"]);
+    let checkpoint = s.path("resumed/checkpoint.bin");
+    let resumed = run(
+        "resumed",
+        &["--steps", "60", "--resume", checkpoint.to_str().unwrap()],
+    );
+    assert!(one == resumed, "a resumed stats.csv differs");
+    // An elastic gas between elastic walls: the kinetic energy changes by exactly what the
+    // thermostat added, row by row.
+    let mut lines = one.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header.last(), Some(&"thermostat_work"));
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    for pair in rows.windows(2) {
+        let gained = pair[1][at("kinetic_energy")] - pair[0][at("kinetic_energy")];
+        let added = pair[1][at("thermostat_work")];
+        assert!(
+            added > 0.0 && (gained - added).abs() < 1e-9 * added,
+            "{gained} vs {added}"
+        );
+    }
+}

@@ -442,3 +442,28 @@ fn a_signal_stops_every_rank_with_its_outputs_and_a_checkpoint_that_resumes() {
     ok(run(None, "gas.toml", &one, &whole), "one process");
     same_files(&one, &out, "stopped by a signal and resumed");
 }
+
+#[test]
+fn what_ranks_cannot_share_yet_is_refused_with_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    for (set, name) in [
+        (
+            "world.thermostat={ kind = \"rescale\", temperature = 1.0, rate = 1.0 }",
+            "world.thermostat",
+        ),
+        ("time.method=\"event_driven\"", "time.method"),
+    ] {
+        let out = run(
+            Some(2),
+            "gas.toml",
+            &dir.path().join("out"),
+            &["--set", set],
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{name} ran under mpirun");
+        assert!(
+            stderr.contains(name) && stderr.contains("not supported across MPI ranks"),
+            "{stderr}"
+        );
+    }
+}

@@ -3,7 +3,7 @@
 
 use bounce::{
     Boundary, Config as RustConfig, MassModel, Method, RestingContacts, RestitutionModel,
-    VelocityUpdate,
+    Thermostat, ThermostatKind, VelocityUpdate,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -42,7 +42,9 @@ use serde::de::IntoDeserializer;
 /// it of its last one is elastic; 0, off), ``contact_events`` (``True``: steps record the
 /// contacts that begin and end, ``World.contact_events()``; default ``False``) and
 /// ``contact_event_threshold`` (the smallest normal impulse a begin is reported with;
-/// default 0).
+/// default 0) and ``thermostat`` (``None``, or a dict ``{"kind": "rescale" | "andersen" |
+/// "white_noise", "temperature": T, "rate": r, "seed": s}``: a heat bath or random drive at
+/// the end of every step; the energy it added is ``World.stats["thermostat_work"]``).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -89,6 +91,54 @@ fn option<T: for<'de> Deserialize<'de>>(field: &str, name: &str, choices: &str) 
             "invalid config: `{field}` = {name:?}: must be one of {choices}"
         ))
     })
+}
+
+/// `None`, or a dict `{"kind": ..., "temperature": ..., "rate": ..., "seed": ...}`.
+fn thermostat(value: &Bound<'_, PyAny>) -> PyResult<Option<Thermostat>> {
+    if value.is_none() {
+        return Ok(None);
+    }
+    let expected = "None or a dict with kind, temperature, rate (and seed)";
+    let dict = value.cast::<PyDict>().map_err(|_| {
+        PyTypeError::new_err(format!("Config(thermostat=...): expected {expected}"))
+    })?;
+    let (mut kind, mut temperature, mut rate, mut seed) = (None, None, None, 0u64);
+    for (k, v) in dict.iter() {
+        let k: String = k.extract().map_err(|_| {
+            PyTypeError::new_err("Config(thermostat=...): the dict's keys must be strings")
+        })?;
+        let field = format!("thermostat.{k}");
+        match k.as_str() {
+            "kind" => {
+                let name: String = typed(&field, &v, "a string")?;
+                kind = Some(option::<ThermostatKind>(
+                    &field,
+                    &name,
+                    "\"rescale\", \"andersen\", \"white_noise\"",
+                )?);
+            }
+            "temperature" => temperature = Some(typed(&field, &v, "a number")?),
+            "rate" => rate = Some(typed(&field, &v, "a number")?),
+            "seed" => seed = typed(&field, &v, "an integer >= 0")?,
+            _ => {
+                return Err(PyTypeError::new_err(format!(
+                    "Config(thermostat=...): unknown key {k:?} (expected kind, temperature, \
+                     rate, seed)"
+                )));
+            }
+        }
+    }
+    let missing = |what: &str| {
+        PyValueError::new_err(format!(
+            "invalid config: `thermostat` is missing {what}: expected {expected}"
+        ))
+    };
+    Ok(Some(Thermostat {
+        kind: kind.ok_or_else(|| missing("kind"))?,
+        temperature: temperature.ok_or_else(|| missing("temperature"))?,
+        rate: rate.ok_or_else(|| missing("rate"))?,
+        seed,
+    }))
 }
 
 fn pair(field: &str, value: &Bound<'_, PyAny>) -> PyResult<[f64; 2]> {
@@ -214,6 +264,7 @@ impl Config {
                             typed(&key, v, "a list of bounce.Sensor")?;
                         c.sensors = list.iter().map(|e| e.inner.clone()).collect();
                     }
+                    "thermostat" => c.thermostat = thermostat(v)?,
                     _ => {
                         return Err(PyTypeError::new_err(format!(
                             "Config() got an unexpected keyword argument '{key}'"
@@ -381,6 +432,20 @@ impl Config {
         self.inner.contact_event_threshold
     }
 
+    /// The thermostat as a dict (``kind``, ``temperature``, ``rate``, ``seed``), or ``None``.
+    #[getter]
+    fn thermostat<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(t) = self.inner.thermostat else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("kind", kind_name(t.kind))?;
+        d.set_item("temperature", t.temperature)?;
+        d.set_item("rate", t.rate)?;
+        d.set_item("seed", t.seed)?;
+        Ok(Some(d))
+    }
+
     /// Coulomb's friction coefficient of disc–disc contacts (0: the seed's smooth discs).
     #[getter]
     fn friction(&self) -> f64 {
@@ -477,6 +542,15 @@ impl Config {
         if !c.obstacles.is_empty() {
             parts.push(format!("obstacles=[{} obstacles]", c.obstacles.len()));
         }
+        if let Some(t) = c.thermostat {
+            parts.push(format!(
+                "thermostat={{\"kind\": {:?}, \"temperature\": {:?}, \"rate\": {:?}, \"seed\": {}}}",
+                kind_name(t.kind),
+                t.temperature,
+                t.rate,
+                t.seed
+            ));
+        }
         format!("bounce.Config({})", parts.join(", "))
     }
 
@@ -484,5 +558,14 @@ impl Config {
         other
             .cast::<Config>()
             .is_ok_and(|o| o.get().inner == self.inner)
+    }
+}
+
+/// A thermostat kind's name, as the scenario file and `Config(thermostat=...)` spell it.
+fn kind_name(kind: ThermostatKind) -> &'static str {
+    match kind {
+        ThermostatKind::Rescale => "rescale",
+        ThermostatKind::Andersen => "andersen",
+        ThermostatKind::WhiteNoise => "white_noise",
     }
 }

@@ -559,6 +559,7 @@ impl World {
         d.set_item("substeps", s.substeps)?;
         d.set_item("obstacle_work", s.obstacle_work)?;
         d.set_item("friction_work", s.friction_work)?;
+        d.set_item("thermostat_work", s.thermostat_work)?;
         d.set_item("rotational_energy", world.rotational_energy())?;
         d.set_item("angular_momentum", world.angular_momentum())?;
         d.set_item("emitted", s.emitted)?;

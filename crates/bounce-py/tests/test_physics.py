@@ -1,5 +1,6 @@
 """Conservation laws and determinism, and the same bits as the command line."""
 
+import math
 import re
 
 import numpy as np
@@ -107,3 +108,30 @@ def test_a_resting_disc_keeps_g_h_under_the_seed_and_is_still_under_rest(support
             assert world.positions[0, 1] == pytest.approx(base + 0.5, abs=1e-12)
     assert speeds["bounce"] == pytest.approx(10 * 0.01, rel=1e-9)
     assert speeds["rest"] == 0.0
+
+
+def test_a_thermostat_from_python_holds_the_baths_temperature_and_round_trips():
+    side = 60.0
+    rng = np.random.default_rng(3)
+    grid = np.stack(np.meshgrid(np.arange(30) * 2 + 1.0, np.arange(30) * 2 + 1.0), -1)
+    positions = grid.reshape(-1, 2)
+    bath = {"kind": "rescale", "temperature": 2.0, "rate": 1e3, "seed": 0}
+    config = bounce.Config(boundary="periodic", min=(0, 0), max=(side, side), thermostat=bath)
+    assert config.thermostat == bath
+    assert 'thermostat={"kind": "rescale", "temperature": 2.0' in repr(config)
+    world = bounce.World(config, dt=0.01)
+    world.add_discs(positions, rng.normal(size=(900, 2)), radii=0.4)
+    world.step(5)
+    # Rescaled exactly each step: kT (mass = radius) is the bath's.
+    v = world.velocities - world.velocities.mean(axis=0)
+    kt = 0.5 * 0.4 * (v**2).sum() / len(world)
+    assert abs(kt - 2.0) < 1e-9
+    assert math.isfinite(world.stats["thermostat_work"])
+    with pytest.raises(ValueError, match="thermostat"):
+        bounce.Config(thermostat={"kind": "rescale", "temperature": -1.0, "rate": 1.0})
+    with pytest.raises(ValueError, match="white_noise"):
+        bounce.Config(thermostat={"kind": "nose", "temperature": 1.0, "rate": 1.0})
+    with pytest.raises(TypeError, match="unknown key"):
+        bounce.Config(thermostat={"kind": "rescale", "temperature": 1.0, "rate": 1.0, "x": 1})
+    with pytest.raises(ValueError, match="missing rate"):
+        bounce.Config(thermostat={"kind": "rescale", "temperature": 1.0})

@@ -24,8 +24,9 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// configuration, the discs' angular velocities and orientations, the friction work);
 /// version 7 the configuration's `method` and `contact_duration` (event-driven runs);
 /// version 8 contact events (the configuration's switch and threshold, the world's last
-/// substep's contacts) and sensors (their regions, the discs each holds, their counts).
-const VERSION: u32 = 8;
+/// substep's contacts) and sensors (their regions, the discs each holds, their counts);
+/// version 9 the configuration's thermostat, the step's and the run's thermostat work.
+const VERSION: u32 = 9;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -48,6 +49,8 @@ pub struct RunState {
     /// The discs each sensor saw enter and leave since the last row (empty without
     /// sensors).
     pub sensor_crossings: Vec<[u64; 2]>,
+    /// The kinetic energy the thermostat added since the last row (0 without one).
+    pub thermostat_work: f64,
 }
 
 /// A decoded checkpoint.
@@ -84,6 +87,11 @@ impl RunState {
             Some(format!(
                 "max_overlap = {} must be finite and >= 0",
                 self.max_overlap
+            ))
+        } else if !self.thermostat_work.is_finite() {
+            Some(format!(
+                "thermostat_work = {} must be finite",
+                self.thermostat_work
             ))
         } else if !sane(self.elapsed) {
             Some(format!(
@@ -238,6 +246,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         emitters,
         sinks,
         sensors,
+        thermostat,
     } = a;
     let mut out = Vec::new();
     let mut differ = |field: &str, x: String, y: String| {
@@ -305,6 +314,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     differ("emitters", f(emitters), f(&b.emitters));
     differ("sinks", f(sinks), f(&b.sinks));
     differ("sensors", f(sensors), f(&b.sensors));
+    differ("thermostat", f(thermostat), f(&b.thermostat));
     if obstacles != &b.obstacles {
         differ(
             "obstacles",
@@ -372,6 +382,7 @@ pub(crate) mod tests {
             elapsed: 0.5,
             obstacle_impulse: Vec::new(),
             sensor_crossings: Vec::new(),
+            thermostat_work: -1.5,
         };
         let bytes = encode(&world, Some(&run)).unwrap();
         let back = decode(&bytes, "c").unwrap();
@@ -388,8 +399,8 @@ pub(crate) mod tests {
                 .contains("truncated or appended")
         );
         let mut other = bytes.clone();
-        other[18] = 9;
-        assert!(decode(&other, "c").unwrap_err().contains("version 9"));
+        other[18] = 10;
+        assert!(decode(&other, "c").unwrap_err().contains("version 10"));
     }
 
     /// Three discs of distinct radii, masses and velocities after two steps: every value

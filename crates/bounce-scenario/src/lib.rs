@@ -177,6 +177,11 @@ pub struct WorldSpec {
     /// `k` in the moment of inertia `k m r²`, default 0.5 (a solid disc).
     #[serde(default = "half")]
     pub inertia_factor: f64,
+    /// A heat bath or drive at the end of every step:
+    /// `{ kind = "rescale" | "andersen" | "white_noise", temperature, rate, seed }`;
+    /// default none.
+    #[serde(default)]
+    pub thermostat: Option<bounce::Thermostat>,
 }
 
 /// The kind of boundary.
@@ -858,6 +863,7 @@ impl Scenario {
             tangential_restitution: w.tangential_restitution,
             rolling_resistance: w.rolling_resistance,
             inertia_factor: w.inertia_factor,
+            thermostat: w.thermostat,
             obstacles: self
                 .obstacle
                 .iter()

@@ -117,6 +117,7 @@ pub mod scene;
 mod sources;
 mod stats;
 mod sum;
+mod thermostat;
 mod world;
 
 /// The README's Rust examples, compiled and run as doctests so they cannot rot.
@@ -127,7 +128,7 @@ pub struct ReadmeDoctests;
 pub use config::{
     Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Method, Motion,
     Obstacle, ObstacleState, Region, RestingContacts, RestitutionModel, Sensor, Shape, Sink,
-    VelocityUpdate,
+    Thermostat, ThermostatKind, VelocityUpdate,
 };
 pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};

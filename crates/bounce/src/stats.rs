@@ -47,6 +47,9 @@ pub struct StepStats {
     /// The energy friction and rolling resistance removed during the step (rough discs,
     /// [`crate::law::rough`]); 0 for smooth ones. [`crate::World::friction_work`] adds it up.
     pub friction_work: f64,
+    /// The kinetic energy the thermostat added at the end of the step (negative where it
+    /// took energy away; [`crate::Config::thermostat`]); 0 without one.
+    pub thermostat_work: f64,
     /// Discs the emitters added at the start of the step.
     pub emitted: usize,
     /// Discs the sinks removed at the end of the step.
@@ -70,6 +73,7 @@ impl StepStats {
             ("pressure", self.pressure.unwrap_or(0.0)),
             ("obstacle_work", self.obstacle_work),
             ("friction_work", self.friction_work),
+            ("thermostat_work", self.thermostat_work),
         ]
         .into_iter()
         .find(|(_, v)| !v.is_finite())

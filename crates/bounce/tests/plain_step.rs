@@ -216,6 +216,17 @@ fn config(r: &Recipe) -> Config {
                 radius: 10.0,
             },
         )],
+        // A thermostat of each kind, or none, by the seed's next bits.
+        thermostat: [
+            None,
+            Some(bounce::ThermostatKind::Rescale),
+            Some(bounce::ThermostatKind::Andersen),
+            Some(bounce::ThermostatKind::WhiteNoise),
+        ][(r.seed >> 1) as usize % 4]
+            .map(|kind| bounce::Thermostat {
+                seed: r.seed,
+                ..bounce::Thermostat::new(kind, 0.8, 3.0)
+            }),
     }
 }
 

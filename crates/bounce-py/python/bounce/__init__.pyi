@@ -17,6 +17,12 @@ class WallImpulse(TypedDict):
     bottom: float
     top: float
 
+class Thermostat(TypedDict, total=False):
+    kind: Literal["rescale", "andersen", "white_noise"]
+    temperature: float
+    rate: float
+    seed: int
+
 class Stats(TypedDict):
     kinetic_energy: float
     momentum: _Pair
@@ -28,6 +34,10 @@ class Stats(TypedDict):
     pressure: Optional[float]
     substeps: int
     obstacle_work: float
+    friction_work: float
+    thermostat_work: float
+    rotational_energy: float
+    angular_momentum: float
     emitted: int
     removed: int
 
@@ -169,6 +179,7 @@ class Config:
         emitters: Sequence[Emitter] = ...,
         sinks: Sequence[Sink] = ...,
         sensors: Sequence[Sensor] = ...,
+        thermostat: Optional[Thermostat] = ...,
     ) -> None: ...
     @property
     def obstacles(self) -> List[Obstacle]: ...
@@ -218,6 +229,8 @@ class Config:
     def contact_events(self) -> bool: ...
     @property
     def contact_event_threshold(self) -> float: ...
+    @property
+    def thermostat(self) -> Optional[Thermostat]: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""

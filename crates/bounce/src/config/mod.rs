@@ -12,12 +12,14 @@ mod method;
 mod obstacle;
 mod sensor;
 mod sources;
+mod thermostat;
 
 pub use method::Method;
 
 pub use obstacle::{Motion, Obstacle, ObstacleState, Shape};
 pub use sensor::{Region, Sensor};
 pub use sources::{Emitter, EmitterState, Sink};
+pub use thermostat::{Thermostat, ThermostatKind};
 
 /// Simulation parameters. Build with [`Config::default`] and change what you need.
 ///
@@ -133,6 +135,9 @@ pub struct Config {
     /// Regions that count the discs entering and leaving them (see [`Sensor`]). Default
     /// none.
     pub sensors: Vec<Sensor>,
+    /// A heat bath or a random drive acting at the end of every step (see [`Thermostat`]).
+    /// Default `None`: the discs' energy changes only by collisions, walls and obstacles.
+    pub thermostat: Option<Thermostat>,
 }
 
 /// The most substeps a step may have ([`Config::substeps`]).
@@ -165,6 +170,7 @@ impl Default for Config {
             emitters: Vec::new(),
             sinks: Vec::new(),
             sensors: Vec::new(),
+            thermostat: None,
         }
     }
 }
@@ -494,6 +500,9 @@ impl Config {
                     "each sensor needs a name of its own",
                 );
             }
+        }
+        if let Some((value, expected)) = self.thermostat.as_ref().and_then(|t| t.problem()) {
+            err("thermostat", value, expected);
         }
         out
     }

@@ -89,8 +89,9 @@ impl World {
         Ok(substeps.max(1))
     }
 
-    /// The end of every step, fast or plain, after its substeps: the sinks, the
-    /// measurement, the clock, and the check that nothing overflowed.
+    /// The end of every step, fast, plain or event-driven, after its substeps: the
+    /// thermostat, the sensors and sinks, the measurement, the clock, and the check that
+    /// nothing overflowed.
     pub(crate) fn finish_step(&mut self, dt: f64, done: Substepped) -> Result<(), StepError> {
         let Substepped {
             mut stats,
@@ -101,6 +102,15 @@ impl World {
             finite,
             mut reordered,
         } = done;
+        if let Some(thermostat) = self.config.thermostat.as_ref().filter(|_| finite) {
+            stats.thermostat_work = crate::thermostat::apply(
+                thermostat,
+                self.config.mass_model,
+                &mut self.particles,
+                self.steps + 1,
+                dt,
+            );
+        }
         if !self.config.sensors.is_empty() {
             self.sensors.observe(&self.config.sensors, &self.particles);
         }
