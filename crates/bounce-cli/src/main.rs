@@ -58,7 +58,8 @@ enum Command {
         quiet: bool,
     },
     /// Write a commented scenario to start from (gas, pile, newtons-cradle, brownian,
-    /// mixing, million, galton-board, hourglass, piston, effusion, angle-of-repose).
+    /// mixing, million, galton-board, hourglass, piston, effusion, angle-of-repose,
+    /// hard-discs, driven-granular).
     New {
         /// The template's name.
         template: String,

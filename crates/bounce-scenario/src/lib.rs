@@ -40,7 +40,7 @@ pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
-pub const TEMPLATES: [(&str, &str); 12] = [
+pub const TEMPLATES: [(&str, &str); 13] = [
     ("gas", include_str!("../../../scenarios/gas.toml")),
     ("pile", include_str!("../../../scenarios/pile.toml")),
     (
@@ -67,6 +67,10 @@ pub const TEMPLATES: [(&str, &str); 12] = [
     (
         "hard-discs",
         include_str!("../../../scenarios/hard-discs.toml"),
+    ),
+    (
+        "driven-granular",
+        include_str!("../../../scenarios/driven-granular.toml"),
     ),
 ];
 

@@ -7,7 +7,7 @@
 use bounce_scenario::Session;
 
 /// `(template, state hash after 200 steps)`.
-const TEMPLATES: [(&str, u64); 10] = [
+const TEMPLATES: [(&str, u64); 11] = [
     ("gas", 0xfdc4_568d_6ad9_5664),
     ("pile", 0xc60b_c57a_5279_98e3),
     ("galton-board", 0x2bd2_e9c4_9649_5597),
@@ -18,6 +18,7 @@ const TEMPLATES: [(&str, u64); 10] = [
     ("piston", 0xb684_0245_0e20_5ce5),
     ("angle-of-repose", 0xd5d8_e402_b960_a77e),
     ("hard-discs", 0xcf9f_e852_1ac6_86d2),
+    ("driven-granular", 0xd561_eedd_c9c3_8411),
 ];
 
 fn hash_after(name: &str, threads: usize, steps: usize) -> u64 {
