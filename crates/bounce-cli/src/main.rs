@@ -5,6 +5,7 @@ mod checkpoint;
 #[cfg(feature = "mpi")]
 mod distributed;
 mod events_csv;
+mod observables_csv;
 mod plots;
 mod render;
 mod run;

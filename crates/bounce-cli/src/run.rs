@@ -22,6 +22,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint;
 use crate::events_csv::EventsCsv;
+use crate::observables_csv::ObservablesCsv;
 use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
 use crate::stats_csv::{ScenarioColumns, StatsCsv, Totals, read_history};
@@ -373,6 +374,11 @@ impl Schedule {
     }
 }
 
+/// Whether the scenario asks for `profile.csv` or `msd.csv`.
+fn wants_observables(session: &Session) -> bool {
+    session.output.profile.is_some() || session.output.msd
+}
+
 /// The files a run writes, opened at the start and completed at the end.
 pub(crate) struct Outputs {
     pub schedule: Schedule,
@@ -386,6 +392,8 @@ pub(crate) struct Outputs {
     gsd: Option<GsdWriter>,
     /// `events.csv`, with `[output] events`.
     events: Option<EventsCsv>,
+    /// `profile.csv` and `msd.csv`, with `[output] profile` or `msd`.
+    observables: Option<ObservablesCsv>,
     total_mass: f64,
     /// The last step each of stats, frames and GSD was written at, so a stop does not write
     /// a step twice.
@@ -442,6 +450,9 @@ impl Outputs {
         if outputs.schedule.output.events {
             outputs.events = Some(EventsCsv::create(dir, session)?);
         }
+        if wants_observables(session) {
+            outputs.observables = Some(ObservablesCsv::create(dir, session)?);
+        }
         outputs.gif = match (&outputs.painter, outputs.schedule.output.gif) {
             (Some(p), true) => Some(GifWriter::create(&dir.join("animation.gif"), p.size())?),
             _ => None,
@@ -458,6 +469,17 @@ impl Outputs {
         // there (not the extra last step of a stopped run).
         let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
         let spec = &schedule.output;
+        let observables = if wants_observables(session) {
+            let origin = run.origin.clone();
+            Some(ObservablesCsv::resume(
+                dir,
+                session,
+                &keep(spec.stats_every),
+                origin,
+            )?)
+        } else {
+            None
+        };
         let stats = StatsCsv::resume(
             dir,
             total_mass,
@@ -486,6 +508,7 @@ impl Outputs {
         if outputs.schedule.output.events {
             outputs.events = Some(EventsCsv::resume(dir, session, k)?);
         }
+        outputs.observables = observables;
         outputs.recorded = [Some(k); 3];
         Ok(outputs)
     }
@@ -524,6 +547,7 @@ impl Outputs {
             gif: None,
             gsd,
             events: None,
+            observables: None,
             recorded: [None; 3],
             emitted: session.emitted.clone(),
             piston: piston_of(session),
@@ -564,6 +588,9 @@ impl Outputs {
         if stats_due {
             let scheduled = self.schedule.on(spec.stats_every, step);
             self.stats.row(world, scheduled)?;
+            if let Some(observables) = &mut self.observables {
+                observables.row(world)?;
+            }
         }
         if let Some(painter) = &self.painter
             && frame_due
@@ -585,7 +612,7 @@ impl Outputs {
         if self.schedule.on(spec.checkpoint_every, step) && spec.checkpoint_every > 0 && step > 0 {
             checkpoint::save(
                 world,
-                Some(&self.stats.totals.checkpoint()),
+                Some(&self.run_state()),
                 &self.dir.join("checkpoint.bin"),
             )?;
         }
@@ -608,6 +635,15 @@ impl Outputs {
         }
     }
 
+    /// What a checkpoint keeps of the run: the totals as the schedule has them, and the
+    /// origin `msd.csv` measures from.
+    fn run_state(&self) -> RunState {
+        RunState {
+            origin: self.observables.as_ref().and_then(ObservablesCsv::origin),
+            ..self.stats.totals.checkpoint()
+        }
+    }
+
     /// Writes what is due at the world's current step.
     pub(crate) fn record(&mut self, world: &World) -> Result<()> {
         self.write(world, false)
@@ -617,7 +653,7 @@ impl Outputs {
     /// written everywhere.
     pub(crate) fn finish(mut self, world: &World, stopped: bool) -> Result<()> {
         // The checkpoint keeps the totals as the schedule has them, before the extra row.
-        let totals = self.stats.totals.checkpoint();
+        let totals = self.run_state();
         if stopped {
             self.write(world, true)?;
         }
@@ -630,6 +666,9 @@ impl Outputs {
         self.stats.finish()?;
         if let Some(events) = self.events {
             events.finish()?;
+        }
+        if let Some(observables) = self.observables {
+            observables.finish()?;
         }
         if let Some(gsd) = self.gsd {
             gsd.finish()?;

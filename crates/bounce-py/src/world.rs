@@ -473,6 +473,40 @@ impl World {
         Ok(out)
     }
 
+    /// Profiles binned along ``axis`` (``"x"`` or ``"y"``) in ``bins`` equal bins across the
+    /// box, as ``profile.csv`` writes them: a dict of arrays ``centre``, ``count``,
+    /// ``density`` (discs per area), ``vx``, ``vy`` (the mass-weighted mean velocity) and
+    /// ``temperature`` (2D kT in the bin's frame, over ``count − 1``). Raises ``ValueError``
+    /// in an open world.
+    #[pyo3(signature = (axis="y", bins=20))]
+    fn profiles<'py>(
+        &self,
+        py: Python<'py>,
+        axis: &str,
+        bins: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        use bounce_scenario::observables::{Axis, profile};
+        let axis = match axis {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "axis = {other:?}: expected \"x\" or \"y\""
+                )));
+            }
+        };
+        let p = profile(&self.get(), axis, bins).map_err(PyValueError::new_err)?;
+        let d = PyDict::new(py);
+        d.set_item("centre", p.centre.into_pyarray(py))?;
+        d.set_item("count", p.count.into_pyarray(py))?;
+        d.set_item("density", p.density.into_pyarray(py))?;
+        let (vx, vy): (Vec<f64>, Vec<f64>) = p.velocity.iter().map(|v| (v[0], v[1])).unzip();
+        d.set_item("vx", vx.into_pyarray(py))?;
+        d.set_item("vy", vy.into_pyarray(py))?;
+        d.set_item("temperature", p.temperature.into_pyarray(py))?;
+        Ok(d)
+    }
+
     /// A snapshot of the discs binned for spatial queries (:class:`Queries`: ``in_circle``,
     /// ``in_box``, ``nearest``, ``ray_cast``); ask for a new one after a step.
     fn queries(&self) -> Queries {

@@ -135,3 +135,21 @@ def test_a_thermostat_from_python_holds_the_baths_temperature_and_round_trips():
         bounce.Config(thermostat={"kind": "rescale", "temperature": 1.0, "rate": 1.0, "x": 1})
     with pytest.raises(ValueError, match="missing rate"):
         bounce.Config(thermostat={"kind": "rescale", "temperature": 1.0})
+
+
+def test_a_profile_bins_the_discs_as_profile_csv_does():
+    config = bounce.Config(boundary="walls", min=(0, 0), max=(10, 4))
+    world = bounce.World(config, dt=0.01)
+    world.add_discs([[1, 1], [1.5, 3], [6, 2], [9.5, 2]], [[1, 0], [3, 0], [0, 2], [0, -2]], 0.2)
+    p = world.profiles(axis="x", bins=2)
+    assert list(p["centre"]) == [2.5, 7.5]
+    assert list(p["count"]) == [2, 2]
+    assert list(p["density"]) == [2 / 20, 2 / 20]
+    # Equal masses: the mean velocity, and ½ m |v − u|² summed over count − 1.
+    assert list(p["vx"]) == [2.0, 0.0] and list(p["vy"]) == [0.0, 0.0]
+    assert p["temperature"][0] == pytest.approx(0.5 * 0.2 * (1 + 1) / 1)
+    assert p["temperature"][1] == pytest.approx(0.5 * 0.2 * (4 + 4) / 1)
+    with pytest.raises(ValueError, match="open world"):
+        bounce.World(bounce.Config(), dt=0.01).profiles()
+    with pytest.raises(ValueError, match="axis"):
+        world.profiles(axis="z")

@@ -25,7 +25,8 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// version 7 the configuration's `method` and `contact_duration` (event-driven runs);
 /// version 8 contact events (the configuration's switch and threshold, the world's last
 /// substep's contacts) and sensors (their regions, the discs each holds, their counts);
-/// version 9 the configuration's thermostat, the step's and the run's thermostat work.
+/// version 9 the configuration's thermostat, the step's and the run's thermostat work, and
+/// the run's origin for `msd.csv`.
 const VERSION: u32 = 9;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
@@ -51,6 +52,8 @@ pub struct RunState {
     pub sensor_crossings: Vec<[u64; 2]>,
     /// The kinetic energy the thermostat added since the last row (0 without one).
     pub thermostat_work: f64,
+    /// The state `msd.csv` measures from (with `[output] msd`).
+    pub origin: Option<crate::observables::Origin>,
 }
 
 /// A decoded checkpoint.
@@ -87,6 +90,16 @@ impl RunState {
             Some(format!(
                 "max_overlap = {} must be finite and >= 0",
                 self.max_overlap
+            ))
+        } else if let Some(origin) = self.origin.as_ref().filter(|o| {
+            o.ids.len() != o.state.len()
+                || o.ids.windows(2).any(|w| w[0] >= w[1])
+                || o.state.iter().flatten().any(|v| !v.is_finite())
+        }) {
+            Some(format!(
+                "the msd origin's {} ids and {} states must match, ids ascending, values finite",
+                origin.ids.len(),
+                origin.state.len()
             ))
         } else if !self.thermostat_work.is_finite() {
             Some(format!(
@@ -383,6 +396,10 @@ pub(crate) mod tests {
             obstacle_impulse: Vec::new(),
             sensor_crossings: Vec::new(),
             thermostat_work: -1.5,
+            origin: Some(crate::observables::Origin {
+                ids: vec![0, 2],
+                state: vec![[1.0, 2.0, 3.0, 4.0], [-1.0, 0.5, 0.0, 2.0]],
+            }),
         };
         let bytes = encode(&world, Some(&run)).unwrap();
         let back = decode(&bytes, "c").unwrap();

@@ -24,6 +24,7 @@ pub mod analysis;
 pub mod atomic;
 pub mod checkpoint;
 mod colour;
+pub mod observables;
 pub mod obstacles;
 pub use obstacles::{ObstacleGroup, ObstacleSpec};
 #[cfg(not(target_arch = "wasm32"))]
@@ -552,6 +553,22 @@ pub struct OutputSpec {
     /// The smallest normal impulse a contact's `begin` (and so its `end`) is written with;
     /// default 0, every contact.
     pub events_threshold: f64,
+    /// Profiles binned along an axis, written to `profile.csv` at every `stats.csv` row:
+    /// `{ axis = "x" | "y", bins = N }`; default none.
+    pub profile: Option<ProfileSpec>,
+    /// The mean-square displacement and the velocity autocorrelation from the run's start,
+    /// written to `msd.csv` at every `stats.csv` row; default false.
+    pub msd: bool,
+}
+
+/// `[output] profile`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProfileSpec {
+    /// The axis the bins cut.
+    pub axis: observables::Axis,
+    /// How many bins across the box (at least 1).
+    pub bins: usize,
 }
 
 impl Default for OutputSpec {
@@ -568,6 +585,8 @@ impl Default for OutputSpec {
             view: None,
             events: false,
             events_threshold: 0.0,
+            profile: None,
+            msd: false,
         }
     }
 }
@@ -1100,6 +1119,24 @@ impl Scenario {
                     e.to_string().trim_start_matches("invalid config: ")
                 ),
             );
+        }
+        if let Some(profile) = self.output.profile {
+            if w.boundary == BoundaryKind::Open {
+                at(
+                    line_of_key(source, "output", "profile"),
+                    "output.profile: a profile needs a box (walls or periodic), not an open \
+                     world"
+                        .into(),
+                );
+            } else if !(1..=100_000).contains(&profile.bins) {
+                at(
+                    line_of_key(source, "output", "profile"),
+                    format!(
+                        "output.profile.bins = {}: must be in 1..=100000",
+                        profile.bins
+                    ),
+                );
+            }
         }
         if !(self.time.dt.is_finite() && self.time.dt > 0.0) {
             at(

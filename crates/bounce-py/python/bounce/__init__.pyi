@@ -323,6 +323,11 @@ class World:
     def tags(self) -> npt.NDArray[np.uint64]: ...
     @tags.setter
     def tags(self, value: npt.ArrayLike) -> None: ...
+    def profiles(
+        self, axis: Literal["x", "y"] = "y", bins: int = 20
+    ) -> Dict[str, npt.NDArray[np.float64]]:
+        """Profiles along an axis: centre, count, density, vx, vy, temperature."""
+        ...
     def contact_events(self) -> npt.NDArray[np.void]:
         """The contact events of the last ``step()`` call's steps: a structured array with
         fields step, time, substep, kind, a, b_kind, b, x, y, nx, ny, normal_impulse,

@@ -1,0 +1,192 @@
+//! `profile.csv` and `msd.csv` against theory: a gas in gravity has the barometric density
+//! profile at its own temperature; a dilute gas's displacements are ballistic at short
+//! times and diffusive later; both files are the same bytes on 1 and 2 threads and after a
+//! resume.
+
+mod common;
+
+use common::{Scratch, bounce, output};
+
+/// 1,000 small discs (packing 0.005: nearly an ideal gas), exact (event-driven), with
+/// `world` and `output` lines added.
+fn scenario(world: &str, output: &str) -> String {
+    format!(
+        r#"
+name = "observables"
+[world]
+min = [0.0, 0.0]
+max = [40.0, 40.0]
+{world}
+
+[time]
+method = "event_driven"
+dt = 0.1
+steps = 3000
+
+[[gas]]
+count = 1000
+radius = 0.05
+temperature = 1.0
+seed = 3
+
+[output]
+plots = false
+{output}
+"#
+    )
+}
+
+fn run(s: &Scratch, text: &str, out: &str, extra: &[&str]) {
+    let file = s.scenario(&format!("{out}.toml"), text);
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(&file)
+            .args(["-q", "--out"])
+            .arg(s.path(out))
+            .args(extra),
+    );
+    assert_eq!(code, 0, "{stderr}");
+}
+
+/// The rows of a CSV file as numbers (an empty field as NaN), and its header.
+fn table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn a_gas_in_gravity_has_the_barometric_profile_at_its_own_temperature() {
+    let s = Scratch::new();
+    let text = scenario(
+        "boundary = \"walls\"\ngravity = [0.0, -2.0]",
+        "stats_every = 50\nprofile = { axis = \"y\", bins = 20 }",
+    );
+    run(&s, &text, "out", &[]);
+    let (header, rows) = table(&s.path("out/profile.csv"));
+    assert_eq!(
+        header.join(","),
+        "step,time,bin,centre,count,density,vx,vy,temperature"
+    );
+    // Each row's counts add up to the discs.
+    let first: f64 = rows.iter().filter(|r| r[0] == 0.0).map(|r| r[4]).sum();
+    assert_eq!(first, 1000.0);
+    // After 100 time units of settling, the mean density and temperature in each bin.
+    let (mut n, mut t, mut y) = (vec![0.0; 20], vec![0.0; 20], vec![0.0; 20]);
+    let late: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] >= 1000.0).collect();
+    for r in &late {
+        let k = r[2] as usize;
+        (n[k], t[k], y[k]) = (n[k] + r[5], t[k] + r[8], r[3]);
+    }
+    let samples = late.len() as f64 / 20.0;
+    let kt = t.iter().zip(&n).map(|(t, n)| t * n).sum::<f64>() / n.iter().sum::<f64>() / samples;
+    // The least-squares slope of ln n against height: −m g / kT (mass = radius = 0.05).
+    let ln: Vec<f64> = n.iter().map(|n| (n / samples).ln()).collect();
+    let (my, ml) = (y.iter().sum::<f64>() / 20.0, ln.iter().sum::<f64>() / 20.0);
+    let slope = y
+        .iter()
+        .zip(&ln)
+        .map(|(y, l)| (y - my) * (l - ml))
+        .sum::<f64>()
+        / y.iter().map(|y| (y - my).powi(2)).sum::<f64>();
+    let theory = -0.05 * 2.0 / kt;
+    assert!(
+        (slope / theory - 1.0).abs() < 0.04,
+        "slope {slope}, barometric {theory} (kT = {kt})"
+    );
+    // At rest on average, and the same temperature at every height (within the noise).
+    for r in &late {
+        assert!(r[8] >= 0.0 && r[6].is_finite() && r[7].is_finite());
+    }
+    for k in 0..20 {
+        assert!(
+            (t[k] / samples / kt - 1.0).abs() < 0.1,
+            "bin {k}: {}",
+            t[k] / samples
+        );
+    }
+}
+
+#[test]
+fn a_dilute_gas_moves_ballistically_then_diffuses() {
+    let s = Scratch::new();
+    let text = scenario("boundary = \"periodic\"", "stats_every = 1\nmsd = true")
+        .replace("dt = 0.1\nsteps = 3000", "dt = 0.02\nsteps = 2000");
+    run(&s, &text, "out", &[]);
+    let (header, rows) = table(&s.path("out/msd.csv"));
+    assert_eq!(header.join(","), "step,time,msd,vacf");
+    let v2 = rows[0][3];
+    assert_eq!(rows[0][2], 0.0);
+    // ⟨v²⟩ = 2 kT / m at the start.
+    assert!((v2 / (2.0 * 1.0 / 0.05) - 1.0).abs() < 0.05, "{v2}");
+    // Ballistic over a fiftieth of a collision time: ⟨v²⟩ t².
+    let t = rows[1][1];
+    assert!(
+        (rows[1][2] / (v2 * t * t) - 1.0).abs() < 0.01,
+        "{:?}",
+        rows[1]
+    );
+    // Diffusive after many collisions (about one a time unit): the MSD grows as t.
+    let at = |time: f64| rows.iter().find(|r| (r[1] - time).abs() < 1e-9).unwrap()[2];
+    let exponent = (at(40.0) / at(20.0)).ln() / 2f64.ln();
+    assert!((exponent - 1.0).abs() < 0.1, "MSD ∝ t^{exponent}");
+    // The velocities forget their start.
+    assert!(rows.last().unwrap()[3].abs() < 0.2 * v2);
+}
+
+#[test]
+fn the_observables_are_the_same_bytes_on_threads_and_after_a_resume() {
+    let s = Scratch::new();
+    let text = scenario(
+        "boundary = \"periodic\"\ncoefficient_of_restitution = 0.9\nrestitution_model = \"relative_normal_velocity\"\nthermostat = { kind = \"andersen\", temperature = 1.0, rate = 0.2 }",
+        "stats_every = 10\nprofile = { axis = \"x\", bins = 8 }\nmsd = true",
+    )
+    .replace("method = \"event_driven\"\ndt = 0.1", "dt = 0.01");
+    run(&s, &text, "one", &["--steps", "300", "--threads", "1"]);
+    run(&s, &text, "two", &["--steps", "300", "--threads", "2"]);
+    run(&s, &text, "resumed", &["--steps", "120"]);
+    let checkpoint = s.path("resumed/checkpoint.bin");
+    run(
+        &s,
+        &text,
+        "resumed",
+        &["--steps", "300", "--resume", checkpoint.to_str().unwrap()],
+    );
+    for file in ["profile.csv", "msd.csv"] {
+        let one = std::fs::read(s.path("one").join(file)).unwrap();
+        assert!(
+            one == std::fs::read(s.path("two").join(file)).unwrap(),
+            "{file}: threads"
+        );
+        assert!(
+            one == std::fs::read(s.path("resumed").join(file)).unwrap(),
+            "{file}: resume"
+        );
+        assert!(one.len() > 1000, "{file}");
+    }
+}
+
+#[test]
+fn a_profile_of_an_open_world_is_refused_with_its_line() {
+    let s = Scratch::new();
+    let text = scenario(
+        "boundary = \"open\"",
+        "profile = { axis = \"y\", bins = 5 }",
+    );
+    let file = s.scenario("open.toml", &text);
+    let (code, _, stderr) = output(bounce().arg("check").arg(&file));
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains("open.toml:21") && stderr.contains("needs a box"),
+        "{stderr}"
+    );
+}
