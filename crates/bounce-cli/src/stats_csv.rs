@@ -21,6 +21,10 @@
 //! entered and left its region since the previous row; a disc a sink removes inside it
 //! leaves) and `sensor_NAME_count` (the discs inside now).
 //!
+//! `[output] pressure_tensor = true` adds `pressure_xx`, `pressure_yy` and `pressure_xy`
+//! (`bounce::World::pressure_tensor`: kinetic plus collisional, at the row's step like
+//! `pressure`, whose value is the mean of the first two).
+//!
 //! A thermostat (`[world] thermostat`) adds `thermostat_work`: the kinetic energy it added
 //! since the previous row (negative where it took energy away).
 //!
@@ -76,6 +80,8 @@ pub struct ScenarioColumns {
     sensors: Vec<String>,
     /// Whether to write `thermostat_work`.
     thermostat: bool,
+    /// Whether to write the pressure tensor.
+    pressure_tensor: bool,
 }
 
 impl ScenarioColumns {
@@ -89,6 +95,7 @@ impl ScenarioColumns {
                 .collect(),
             work: groups.iter().any(|g| g.moving),
             thermostat: session.world.config().thermostat.is_some(),
+            pressure_tensor: session.world.config().pressure_tensor,
             groups: groups
                 .into_iter()
                 .filter_map(|g| Some((g.name?, g.range, g.moving)))
@@ -122,6 +129,9 @@ impl ScenarioColumns {
         }
         if self.thermostat {
             out.push("thermostat_work".into());
+        }
+        if self.pressure_tensor {
+            out.extend(["pressure_xx", "pressure_yy", "pressure_xy"].map(String::from));
         }
         out
     }
@@ -168,6 +178,15 @@ impl ScenarioColumns {
         }
         if self.thermostat {
             out.push(totals.thermostat_work.to_string());
+        }
+        if self.pressure_tensor {
+            // Empty where `pressure` is: before the first step, which has no virial.
+            let tensor = world
+                .pressure_tensor()
+                .filter(|_| world.stats().pressure.is_some());
+            for k in 0..3 {
+                out.push(tensor.map_or_else(String::new, |t| t[k].to_string()));
+            }
         }
         out
     }

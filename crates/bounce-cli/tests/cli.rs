@@ -858,3 +858,46 @@ fn a_thermostat_adds_its_column_balances_the_energy_and_resumes_byte_for_byte() 
         );
     }
 }
+
+#[test]
+fn the_pressure_tensor_columns_have_the_pressure_as_their_mean_diagonal() {
+    let s = Scratch::new();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    for scenario in ["hard-discs.toml", "gas.toml"] {
+        let out = s.path(scenario);
+        let (code, _, stderr) = output(
+            bounce()
+                .arg("run")
+                .arg(root.join(scenario))
+                .args([
+                    "--steps",
+                    "100",
+                    "--quiet",
+                    "--set",
+                    "output.pressure_tensor=true",
+                ])
+                .args(["--set", "output.frame_every=0", "--set", "output.gif=false"])
+                .args(["--set", "output.gsd_every=0", "--out"])
+                .arg(&out),
+        );
+        assert_eq!(code, 0, "{stderr}");
+        let text = std::fs::read_to_string(out.join("stats.csv")).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows[0][at("pressure_xx")], ""); // no virial before the first step
+        for row in &rows[1..] {
+            let value = |name: &str| row[at(name)].parse::<f64>().unwrap();
+            let trace = (value("pressure_xx") + value("pressure_yy")) / 2.0;
+            assert!(
+                (trace / value("pressure") - 1.0).abs() < 1e-12,
+                "{scenario}: {row:?}"
+            );
+            assert!(
+                value("pressure_xy").abs() < 0.2 * value("pressure"),
+                "{scenario}"
+            );
+        }
+    }
+}

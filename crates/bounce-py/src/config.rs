@@ -44,7 +44,9 @@ use serde::de::IntoDeserializer;
 /// ``contact_event_threshold`` (the smallest normal impulse a begin is reported with;
 /// default 0) and ``thermostat`` (``None``, or a dict ``{"kind": "rescale" | "andersen" |
 /// "white_noise", "temperature": T, "rate": r, "seed": s}``: a heat bath or random drive at
-/// the end of every step; the energy it added is ``World.stats["thermostat_work"]``).
+/// the end of every step; the energy it added is ``World.stats["thermostat_work"]``) and
+/// ``pressure_tensor`` (``True``: each step measures the virial tensor,
+/// ``World.pressure_tensor``; default ``False``).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -265,6 +267,7 @@ impl Config {
                         c.sensors = list.iter().map(|e| e.inner.clone()).collect();
                     }
                     "thermostat" => c.thermostat = thermostat(v)?,
+                    "pressure_tensor" => c.pressure_tensor = typed(&key, v, "True or False")?,
                     _ => {
                         return Err(PyTypeError::new_err(format!(
                             "Config() got an unexpected keyword argument '{key}'"
@@ -432,6 +435,12 @@ impl Config {
         self.inner.contact_event_threshold
     }
 
+    /// Whether each step measures the virial tensor (``World.pressure_tensor``).
+    #[getter]
+    fn pressure_tensor(&self) -> bool {
+        self.inner.pressure_tensor
+    }
+
     /// The thermostat as a dict (``kind``, ``temperature``, ``rate``, ``seed``), or ``None``.
     #[getter]
     fn thermostat<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
@@ -541,6 +550,9 @@ impl Config {
         }
         if !c.obstacles.is_empty() {
             parts.push(format!("obstacles=[{} obstacles]", c.obstacles.len()));
+        }
+        if c.pressure_tensor {
+            parts.push("pressure_tensor=True".into());
         }
         if let Some(t) = c.thermostat {
             parts.push(format!(

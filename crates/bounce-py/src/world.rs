@@ -473,6 +473,17 @@ impl World {
         Ok(out)
     }
 
+    /// The pressure tensor ``(P_xx, P_yy, P_xy)`` now, kinetic plus collisional (the last
+    /// step's virial), over the area of ``stats["pressure"]``; ``None`` unless
+    /// ``Config(pressure_tensor=True)``, or in an open world. ``(P_xx + P_yy) / 2`` is the
+    /// pressure.
+    #[getter]
+    fn pressure_tensor(&self) -> Option<(f64, f64, f64)> {
+        self.get()
+            .pressure_tensor()
+            .map(|[xx, yy, xy]| (xx, yy, xy))
+    }
+
     /// Profiles binned along ``axis`` (``"x"`` or ``"y"``) in ``bins`` equal bins across the
     /// box, as ``profile.csv`` writes them: a dict of arrays ``centre``, ``count``,
     /// ``density`` (discs per area), ``vx``, ``vy`` (the mass-weighted mean velocity) and
@@ -594,6 +605,7 @@ impl World {
         d.set_item("obstacle_work", s.obstacle_work)?;
         d.set_item("friction_work", s.friction_work)?;
         d.set_item("thermostat_work", s.thermostat_work)?;
+        d.set_item("virial_tensor", s.virial_tensor.to_vec())?;
         d.set_item("rotational_energy", world.rotational_energy())?;
         d.set_item("angular_momentum", world.angular_momentum())?;
         d.set_item("emitted", s.emitted)?;

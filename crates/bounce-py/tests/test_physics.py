@@ -153,3 +153,17 @@ def test_a_profile_bins_the_discs_as_profile_csv_does():
         bounce.World(bounce.Config(), dt=0.01).profiles()
     with pytest.raises(ValueError, match="axis"):
         world.profiles(axis="z")
+
+
+def test_the_pressure_tensor_from_python_has_the_pressure_as_its_trace():
+    config = bounce.Config(boundary="periodic", min=(0, 0), max=(40, 40), pressure_tensor=True)
+    assert config.pressure_tensor and "pressure_tensor=True" in repr(config)
+    world = bounce.World(config, dt=0.01)
+    rng = np.random.default_rng(5)
+    grid = np.stack(np.meshgrid(np.arange(20) * 2 + 1.0, np.arange(20) * 2 + 1.0), -1)
+    world.add_discs(grid.reshape(-1, 2), rng.normal(size=(400, 2)), radii=0.6)
+    world.step(50)
+    xx, yy, xy = world.pressure_tensor
+    assert (xx + yy) / 2 == pytest.approx(world.stats["pressure"], rel=1e-12)
+    assert len(world.stats["virial_tensor"]) == 3
+    assert bounce.World(bounce.Config(boundary="periodic", min=(0, 0), max=(9, 9)), dt=0.1).pressure_tensor is None

@@ -25,8 +25,8 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// version 7 the configuration's `method` and `contact_duration` (event-driven runs);
 /// version 8 contact events (the configuration's switch and threshold, the world's last
 /// substep's contacts) and sensors (their regions, the discs each holds, their counts);
-/// version 9 the configuration's thermostat, the step's and the run's thermostat work, and
-/// the run's origin for `msd.csv`.
+/// version 9 the configuration's thermostat and pressure-tensor switch, the step's
+/// thermostat work and virial tensor, the run's thermostat work and its origin for `msd.csv`.
 const VERSION: u32 = 9;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
@@ -259,6 +259,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         emitters,
         sinks,
         sensors,
+        pressure_tensor,
         thermostat,
     } = a;
     let mut out = Vec::new();
@@ -328,6 +329,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     differ("sinks", f(sinks), f(&b.sinks));
     differ("sensors", f(sensors), f(&b.sensors));
     differ("thermostat", f(thermostat), f(&b.thermostat));
+    differ("pressure_tensor", f(pressure_tensor), f(&b.pressure_tensor));
     if obstacles != &b.obstacles {
         differ(
             "obstacles",

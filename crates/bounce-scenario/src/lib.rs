@@ -559,6 +559,9 @@ pub struct OutputSpec {
     /// The mean-square displacement and the velocity autocorrelation from the run's start,
     /// written to `msd.csv` at every `stats.csv` row; default false.
     pub msd: bool,
+    /// The pressure tensor in `stats.csv` (`pressure_xx`, `pressure_yy`, `pressure_xy`);
+    /// default false.
+    pub pressure_tensor: bool,
 }
 
 /// `[output] profile`.
@@ -587,6 +590,7 @@ impl Default for OutputSpec {
             events_threshold: 0.0,
             profile: None,
             msd: false,
+            pressure_tensor: false,
         }
     }
 }
@@ -868,6 +872,7 @@ impl Scenario {
             contact_duration: self.time.contact_duration,
             contact_events: self.output.events,
             contact_event_threshold: self.output.events_threshold,
+            pressure_tensor: self.output.pressure_tensor,
             boundary: match w.boundary {
                 BoundaryKind::Walls => Boundary::Walls {
                     min,

@@ -33,8 +33,8 @@ use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
 use crate::resolve::resolve_in_order;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
-use crate::sum::{StepSums, WallSums};
-use crate::world::{StepError, Substepped, World};
+use crate::sum::{ExactSum, StepSums, WallSums};
+use crate::world::{StepError, Substepped, World, add_tensor};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
 /// the state), the plain way. It reports no contact events ([`World::contact_events`] is
@@ -75,6 +75,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
         ..StepStats::default()
     };
     let mut sums = StepSums::default();
+    let mut tensor: [ExactSum; 3] = Default::default();
     let mut met = Met::new(config.obstacles.len());
     let mut finite = true;
     let has_obstacles = !config.obstacles.is_empty();
@@ -116,7 +117,11 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 &rules.law.for_pass(pass),
                 &rules.geometry,
                 (rules.resting_speed, None),
-                |_, _| {},
+                |_, pair| {
+                    if config.pressure_tensor {
+                        add_tensor(&mut tensor, pair);
+                    }
+                },
             );
             sums.virial.merge(&resolved.virial);
             sums.friction.merge(&resolved.friction);
@@ -138,6 +143,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     let done = Substepped {
         stats,
         sums,
+        tensor,
         met,
         profile: StepProfile::default(),
         clock: Stopwatch::start(),

@@ -50,6 +50,12 @@ pub struct StepStats {
     /// The kinetic energy the thermostat added at the end of the step (negative where it
     /// took energy away; [`crate::Config::thermostat`]); 0 without one.
     pub thermostat_work: f64,
+    /// The collision virial tensor of the step, `[W_xx, W_yy, W_xy]` with
+    /// `W_ab = Σ r_a J_b / dt` over the pairs resolved in all its substeps (`xy`
+    /// symmetrised), so that [`StepStats::virial`] is `(W_xx + W_yy) / 2`; measured only
+    /// with [`crate::Config::pressure_tensor`] (zero otherwise). See
+    /// [`crate::World::pressure_tensor`].
+    pub virial_tensor: [f64; 3],
     /// Discs the emitters added at the start of the step.
     pub emitted: usize,
     /// Discs the sinks removed at the end of the step.

@@ -216,6 +216,8 @@ fn config(r: &Recipe) -> Config {
                 radius: 10.0,
             },
         )],
+        // Measuring the virial tensor takes the contacts one at a time: the same bits.
+        pressure_tensor: r.seed & 8 != 0,
         // A thermostat of each kind, or none, by the seed's next bits.
         thermostat: [
             None,
@@ -280,6 +282,18 @@ fn same_bits(r: &Recipe, threads: usize, steps: usize) -> Result<(), TestCaseErr
             at
         );
         prop_assert_eq!(a.virial.to_bits(), b.virial.to_bits(), "virial, {}", at);
+        prop_assert_eq!(
+            a.virial_tensor.map(f64::to_bits),
+            b.virial_tensor.map(f64::to_bits),
+            "virial tensor, {}",
+            at
+        );
+        prop_assert_eq!(
+            a.thermostat_work.to_bits(),
+            b.thermostat_work.to_bits(),
+            "thermostat, {}",
+            at
+        );
         prop_assert_eq!(a.wall_impulse, b.wall_impulse, "walls, {}", at);
         prop_assert_eq!(
             fast.obstacle_states(),

@@ -36,6 +36,7 @@ class Stats(TypedDict):
     obstacle_work: float
     friction_work: float
     thermostat_work: float
+    virial_tensor: List[float]
     rotational_energy: float
     angular_momentum: float
     emitted: int
@@ -180,6 +181,7 @@ class Config:
         sinks: Sequence[Sink] = ...,
         sensors: Sequence[Sensor] = ...,
         thermostat: Optional[Thermostat] = ...,
+        pressure_tensor: bool = ...,
     ) -> None: ...
     @property
     def obstacles(self) -> List[Obstacle]: ...
@@ -231,6 +233,8 @@ class Config:
     def contact_event_threshold(self) -> float: ...
     @property
     def thermostat(self) -> Optional[Thermostat]: ...
+    @property
+    def pressure_tensor(self) -> bool: ...
 
 class StorageView:
     """Read-only arrays over the engine's storage; the world is frozen while any lives."""
@@ -323,6 +327,8 @@ class World:
     def tags(self) -> npt.NDArray[np.uint64]: ...
     @tags.setter
     def tags(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def pressure_tensor(self) -> Optional[Tuple[float, float, float]]: ...
     def profiles(
         self, axis: Literal["x", "y"] = "y", bins: int = 20
     ) -> Dict[str, npt.NDArray[np.float64]]:

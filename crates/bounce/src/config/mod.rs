@@ -135,6 +135,11 @@ pub struct Config {
     /// Regions that count the discs entering and leaving them (see [`Sensor`]). Default
     /// none.
     pub sensors: Vec<Sensor>,
+    /// Measure the collision virial tensor each step ([`crate::StepStats::virial_tensor`],
+    /// [`crate::World::pressure_tensor`]). Default `false`. When on, the time-stepped solver
+    /// takes the contacts one at a time (the same bits, as with contact events), which is
+    /// slower.
+    pub pressure_tensor: bool,
     /// A heat bath or a random drive acting at the end of every step (see [`Thermostat`]).
     /// Default `None`: the discs' energy changes only by collisions, walls and obstacles.
     pub thermostat: Option<Thermostat>,
@@ -170,6 +175,7 @@ impl Default for Config {
             emitters: Vec::new(),
             sinks: Vec::new(),
             sensors: Vec::new(),
+            pressure_tensor: false,
             thermostat: None,
         }
     }

@@ -94,6 +94,8 @@ pub struct Observed {
     /// `Σ r_ij · Δp_ij` over them (the pair's impulse on the disc `r_ij` points from): the
     /// collision virial is half of it over the interval.
     pub virial: f64,
+    /// `Σ [r_x J_x, r_y J_y, ½ (r_x J_y + r_y J_x)]` over them: the virial tensor's terms.
+    pub virial_tensor: [f64; 3],
     /// The momentum the walls took (`Σ m |Δv|`), left, right, bottom, top.
     pub wall_impulse: [f64; 4],
     /// The momentum each obstacle took.

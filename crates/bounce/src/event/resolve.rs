@@ -113,6 +113,10 @@ impl EventDriven {
                 - two.mass * (out.v2[k] - two.velocity[k]))
         });
         self.observed.virial += diff[0] * impulse[0] + diff[1] * impulse[1];
+        let tensor = &mut self.observed.virial_tensor;
+        tensor[0] += diff[0] * impulse[0];
+        tensor[1] += diff[1] * impulse[1];
+        tensor[2] += 0.5 * (diff[0] * impulse[1] + diff[1] * impulse[0]);
         self.observed.collisions += 1;
         (self.d[a].v, self.d[b].v) = (out.v1, out.v2);
         for i in [a, b] {

@@ -50,6 +50,11 @@ impl World {
         }
         done.stats.collisions = seen.collisions as usize;
         done.sums.virial.add(seen.virial);
+        if self.config.pressure_tensor {
+            for (sum, term) in done.tensor.iter_mut().zip(seen.virial_tensor) {
+                sum.add(term);
+            }
+        }
         done.sums.walls.add(seen.wall_impulse);
         done.met.impulses = seen.obstacle_impulses;
         self.broadphase.invalidate();

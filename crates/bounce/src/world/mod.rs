@@ -28,6 +28,7 @@ mod emitters;
 mod events;
 mod obstacles;
 mod part;
+mod pressure;
 mod rotation;
 mod sensors;
 
@@ -42,7 +43,7 @@ mod tests;
 use access::IndexMap;
 use obstacles::initial_states;
 use state::{WorldState, serialize_reference};
-pub(crate) use step::Substepped;
+pub(crate) use step::{Substepped, add_tensor};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///
@@ -548,23 +549,6 @@ impl World {
             .map(|i| p.id[i].0)
             .min()
             .map_or_else(|| "?".into(), |id| id.to_string())
-    }
-
-    /// The pressure `(K + W) / A` of [`StepStats::pressure`] for a kinetic energy, momentum
-    /// and virial `W` (the discs' total mass and mean radius are the world's, summed in id
-    /// order). `None` in an open world.
-    pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
-        let m = &self.measured;
-        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
-        Geometry::new(&self.config).area(mean_radius).map(|area| {
-            let [px, py] = momentum;
-            let drift = if m.total_mass > 0.0 {
-                (px * px + py * py) / (2.0 * m.total_mass)
-            } else {
-                0.0
-            };
-            (kinetic_energy - drift + virial) / area
-        })
     }
 
     /// The total mass and the sum of the radii, summed in id order: the same bits whatever

@@ -17,9 +17,9 @@ use crate::integrate::{integrate, turn};
 use crate::obstacles::{self, Met, Obstacles, Trail, resolve_obstacles, take_impacts};
 use crate::part::Travel;
 use crate::particles::Particles;
-use crate::resolve::{resolve_all, resolve_in_order, resolve_walls, solver_order};
+use crate::resolve::{PairResolved, resolve_all, resolve_in_order, resolve_walls, solver_order};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
-use crate::sum::StepSums;
+use crate::sum::{ExactSum, StepSums};
 
 use super::{StepError, World};
 
@@ -96,6 +96,7 @@ impl World {
         let Substepped {
             mut stats,
             mut sums,
+            tensor,
             met,
             mut profile,
             mut clock,
@@ -136,6 +137,7 @@ impl World {
         // The 2D virial equation: P A = N kT + (1/2) <Σ r_ij · F_ij>, the forces being the
         // impulses over the step.
         stats.virial = 0.5 * sums.virial.value() / dt;
+        stats.virial_tensor = tensor.each_ref().map(|sum| sum.value() / dt);
         stats.wall_impulse = sums.walls.impulse();
         sums.friction.merge(&met.friction);
         stats.friction_work = sums.friction_work();
@@ -166,10 +168,30 @@ impl World {
     }
 }
 
+/// Adds a resolved pair's terms of the virial tensor to the step's sums:
+/// `[r_x J_x, r_y J_y, ½ (r_x J_y + r_y J_x)]`, `r` the separation `x_a − x_b` and `J` the
+/// pair's impulse on `a` (the antisymmetric part of the two momentum changes, as the
+/// virial counts it), so half their trace is the pair's `r · J`.
+pub(crate) fn add_tensor(sums: &mut [ExactSum; 3], pair: &PairResolved) {
+    let [one, two] = &pair.before;
+    let j = [0, 1].map(|k| {
+        0.5 * (one.mass * (pair.out.v1[k] - one.velocity[k])
+            - two.mass * (pair.out.v2[k] - two.velocity[k]))
+    });
+    let r = pair.diff;
+    let terms = [r[0] * j[0], r[1] * j[1], 0.5 * (r[0] * j[1] + r[1] * j[0])];
+    for (sum, term) in sums.iter_mut().zip(terms) {
+        sum.add(term);
+    }
+}
+
 /// What a step's substeps leave for [`World::finish_step`].
 pub(crate) struct Substepped {
     pub stats: StepStats,
     pub sums: StepSums,
+    /// `Σ [r_x J_x, r_y J_y, ½ (r_x J_y + r_y J_x)]` over the resolved pairs, with
+    /// [`Config::pressure_tensor`] (empty otherwise).
+    pub tensor: [ExactSum; 3],
     pub met: Met,
     pub profile: StepProfile,
     pub clock: Stopwatch,
@@ -189,6 +211,7 @@ impl Substepped {
                 ..StepStats::default()
             },
             sums: StepSums::default(),
+            tensor: Default::default(),
             met: Met::new(obstacles),
             profile: StepProfile::default(),
             clock: Stopwatch::start(),
@@ -363,16 +386,25 @@ impl<'w> Stages<'w> {
             law: self.ctx.law.for_pass(pass),
             ..self.ctx
         };
+        let tensor = self.config.pressure_tensor;
         let resolved = match self.log.as_deref_mut() {
-            None => resolve_all(self.contacts, self.particles, &ctx, uniform),
-            // One contact at a time, each reported (the same bits: `solver_order`).
-            Some(log) => resolve_in_order(
+            None if !tensor => resolve_all(self.contacts, self.particles, &ctx, uniform),
+            // One contact at a time, each reported or measured (the same bits:
+            // `solver_order`).
+            mut log => resolve_in_order(
                 self.particles,
                 solver_order(self.contacts),
                 &ctx.law,
                 &ctx.geometry,
                 (ctx.resting_speed, ctx.tally),
-                |p, pair| log.see_pair(p, pair),
+                |p, pair| {
+                    if let Some(log) = log.as_deref_mut() {
+                        log.see_pair(p, pair);
+                    }
+                    if tensor {
+                        add_tensor(&mut done.tensor, pair);
+                    }
+                },
             ),
         };
         done.sums.virial.merge(&resolved.virial);

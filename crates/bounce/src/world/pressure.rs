@@ -1,0 +1,81 @@
+//! The world's pressure and pressure tensor: the kinetic part from the discs' motion in the
+//! centre-of-mass frame, the collisional part from the last step's virial, over the area the
+//! centres move in.
+
+use crate::geometry::Geometry;
+use crate::law::Law;
+
+use super::World;
+
+impl World {
+    /// The pressure `(K + W) / A` of [`crate::StepStats::pressure`] for a kinetic energy,
+    /// momentum and virial `W` (the discs' total mass and mean radius are the world's, summed
+    /// in id order). `None` in an open world.
+    pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
+        let m = &self.measured;
+        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
+        Geometry::new(&self.config).area(mean_radius).map(|area| {
+            let [px, py] = momentum;
+            let drift = if m.total_mass > 0.0 {
+                (px * px + py * py) / (2.0 * m.total_mass)
+            } else {
+                0.0
+            };
+            (kinetic_energy - drift + virial) / area
+        })
+    }
+
+    /// The pressure tensor `[P_xx, P_yy, P_xy]` now, with [`crate::Config::pressure_tensor`]
+    /// (`None` without it, or in an open world): `P_ab = (Σ m u_a u_b + W_ab) / A`, `u` each
+    /// disc's velocity in the centre-of-mass frame (summed in id order), `W_ab` the last
+    /// step's [`crate::StepStats::virial_tensor`] and `A` the area of
+    /// [`crate::StepStats::pressure`]. Its mean diagonal `(P_xx + P_yy) / 2` is the pressure.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let config = Config {
+    ///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
+    ///     pressure_tensor: true,
+    ///     ..Config::default()
+    /// };
+    /// let mut world = World::new(config).unwrap();
+    /// world.add_particle(Particle::new([2.0, 5.0], [1.0, 0.0], 0.5)).unwrap();
+    /// world.add_particle(Particle::new([8.0, 5.0], [-1.0, 0.0], 0.5)).unwrap();
+    /// world.step(0.01).unwrap();
+    /// // Two discs moving along x, no collision yet: only P_xx.
+    /// let [xx, yy, xy] = world.pressure_tensor().unwrap();
+    /// assert!(xx > 0.0 && yy == 0.0 && xy == 0.0);
+    /// ```
+    pub fn pressure_tensor(&self) -> Option<[f64; 3]> {
+        if !self.config.pressure_tensor {
+            return None;
+        }
+        let m = &self.measured;
+        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
+        let area = Geometry::new(&self.config).area(mean_radius)?;
+        let (p, law) = (&self.particles, Law::new(&self.config));
+        let order = self.in_id_order();
+        let (mut total, mut momentum) = (0.0, [0.0; 2]);
+        for &(_, i) in &order {
+            let mass = law.mass(p.radius[i], p.mass[i]);
+            total += mass;
+            momentum[0] += mass * p.vx[i];
+            momentum[1] += mass * p.vy[i];
+        }
+        let centre = if total > 0.0 {
+            [momentum[0] / total, momentum[1] / total]
+        } else {
+            [0.0; 2]
+        };
+        let mut kinetic = [0.0; 3];
+        for &(_, i) in &order {
+            let mass = law.mass(p.radius[i], p.mass[i]);
+            let u = [p.vx[i] - centre[0], p.vy[i] - centre[1]];
+            kinetic[0] += mass * u[0] * u[0];
+            kinetic[1] += mass * u[1] * u[1];
+            kinetic[2] += mass * u[0] * u[1];
+        }
+        let w = self.stats.virial_tensor;
+        Some([0, 1, 2].map(|k| (kinetic[k] + w[k]) / area))
+    }
+}
