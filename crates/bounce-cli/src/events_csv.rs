@@ -19,7 +19,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use bounce::{ContactEvent, Party, World};
 use bounce_scenario::Session;
 use bounce_scenario::atomic::AtomicFile;
@@ -50,29 +50,15 @@ impl EventsCsv {
     /// Continues `events.csv` in `dir` after step `k`: the rows of steps up to `k` kept byte
     /// for byte (a new file without an earlier one).
     pub fn resume(dir: &Path, session: &Session, k: u64) -> Result<Self> {
-        let path = dir.join("events.csv");
-        let Ok(old) = std::fs::read_to_string(&path) else {
+        let keep = |step: u64| step <= k;
+        let Some(file) = crate::rows::continue_rows(&dir.join("events.csv"), HEADER, &keep)? else {
             return EventsCsv::create(dir, session);
         };
-        let mut lines = old.lines();
-        if lines.next() != Some(HEADER) {
-            bail!(
-                "{}: not the events.csv of this bounce (its header differs); resume into the \
-                 run's own folder or use a new one",
-                path.display()
-            );
-        }
-        let mut out = EventsCsv::create(dir, session)?;
-        for line in lines {
-            let step: u64 = (line.split(',').next())
-                .and_then(|s| s.parse().ok())
-                .with_context(|| format!("{}: a row without a step: {line:?}", path.display()))?;
-            if step <= k {
-                writeln!(out.file, "{line}")?;
-            }
-        }
-        out.written = Some(k);
-        Ok(out)
+        Ok(EventsCsv {
+            file: std::io::BufWriter::new(file),
+            obstacles: obstacle_names(session),
+            written: Some(k),
+        })
     }
 
     /// The last step's events, once per step.

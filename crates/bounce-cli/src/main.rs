@@ -8,6 +8,7 @@ mod events_csv;
 mod observables_csv;
 mod plots;
 mod render;
+mod rows;
 mod run;
 mod stats_csv;
 mod validate;

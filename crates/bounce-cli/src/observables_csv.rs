@@ -42,29 +42,12 @@ impl Rows {
     /// The file at `path` continued: its rows whose step passes `keep`, byte for byte (a
     /// new file without an earlier one).
     fn resume(path: &Path, header: &str, keep: &dyn Fn(u64) -> bool) -> Result<Rows> {
-        let Ok(old) = std::fs::read_to_string(path) else {
-            return Rows::create(path, header);
-        };
-        let mut lines = old.lines();
-        if lines.next() != Some(header) {
-            bail!(
-                "{}: not a file of this bounce (its header differs); resume into the run's \
-                 own folder or use a new one",
-                path.display()
-            );
+        match crate::rows::continue_rows(path, header, keep)? {
+            Some(file) => Ok(Rows {
+                file: BufWriter::new(file),
+            }),
+            None => Rows::create(path, header),
         }
-        let mut rows = Rows::create(path, header)?;
-        for line in lines {
-            let step: u64 = line
-                .split(',')
-                .next()
-                .and_then(|s| s.parse().ok())
-                .with_context(|| format!("{}: a row without a step: {line:?}", path.display()))?;
-            if keep(step) {
-                writeln!(rows.file, "{line}")?;
-            }
-        }
-        Ok(rows)
     }
 
     fn finish(self) -> Result<()> {

@@ -38,10 +38,9 @@
 //! run drops the rows after its checkpoint's step, and that extra row, and continues from
 //! the totals the checkpoint kept, so its file equals an uninterrupted run's byte for byte.
 
-use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use std::ops::Range;
 
 use bounce::{Shape, StepStats, World};
@@ -280,33 +279,12 @@ impl StatsCsv {
         keep: impl Fn(u64) -> bool,
         run: RunState,
     ) -> Result<Self> {
-        let path = dir.join("stats.csv");
-        let Ok(old) = std::fs::read_to_string(&path) else {
+        let header = obstacles.header().join(",");
+        let Some(file) = crate::rows::continue_rows(&dir.join("stats.csv"), &header, &keep)? else {
             let mut fresh = StatsCsv::create(dir, total_mass, obstacles)?;
             fresh.totals = Totals::resumed(run);
             return Ok(fresh);
         };
-        let header = obstacles.header().join(",");
-        let mut lines = old.lines();
-        if lines.next() != Some(header.as_str()) {
-            bail!(
-                "{}: not the stats.csv of this bounce (its header differs); resume into the \
-                 run's own folder or use a new one",
-                path.display()
-            );
-        }
-        let mut file = AtomicFile::create(&path)?;
-        writeln!(file, "{header}")?;
-        for line in lines {
-            let step: u64 = line
-                .split(',')
-                .next()
-                .and_then(|s| s.parse().ok())
-                .with_context(|| format!("{}: a row without a step: {line:?}", path.display()))?;
-            if keep(step) {
-                writeln!(file, "{line}")?;
-            }
-        }
         Ok(StatsCsv {
             writer: csv::WriterBuilder::new()
                 .has_headers(false)

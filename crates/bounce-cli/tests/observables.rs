@@ -190,3 +190,38 @@ fn a_profile_of_an_open_world_is_refused_with_its_line() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_resume_refuses_a_file_of_another_run_naming_it() {
+    let s = Scratch::new();
+    let text = scenario(
+        "boundary = \"periodic\"",
+        "stats_every = 10\nprofile = { axis = \"y\", bins = 4 }",
+    );
+    run(&s, &text, "out", &["--steps", "20"]);
+    let profile = s.path("out/profile.csv");
+    let old = std::fs::read_to_string(&profile).unwrap();
+    std::fs::write(&profile, old.replacen("temperature", "temp", 1)).unwrap();
+    let file = s.path("out.toml");
+    let checkpoint = s.path("out/checkpoint.bin");
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(&file)
+            .args(["-q", "--steps", "40", "--out"])
+            .arg(s.path("out"))
+            .arg("--resume")
+            .arg(&checkpoint),
+    );
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains("profile.csv: not the profile.csv of this bounce (its header differs)"),
+        "{stderr}"
+    );
+    // The file is left as it was.
+    assert!(
+        std::fs::read_to_string(&profile)
+            .unwrap()
+            .contains(",temp\n")
+    );
+}
