@@ -73,8 +73,12 @@ impl Snapshot {
 
     /// The largest `r_max` g(r) takes in this frame: half the box's smaller side in a
     /// periodic box (the minimum image), else the smaller side of the rectangle the centres
-    /// fill (where the set covariance holds).
+    /// fill (where the set covariance holds). Unbounded for a frame of fewer than two discs,
+    /// which has no pairs.
     pub fn largest_r_max(&self) -> f64 {
+        if self.position.len() < 2 {
+            return f64::INFINITY;
+        }
         let [a, b] = self.centre_rectangle();
         match self.edges {
             Edges::Periodic => a.min(b) / 2.0,
@@ -261,8 +265,13 @@ impl Rdf {
         self.r_max * k as f64 / self.pairs.len() as f64
     }
 
-    /// Adds a frame's pairs. Refuses an `r_max` beyond [`Snapshot::largest_r_max`].
+    /// Adds a frame's pairs. Refuses an `r_max` beyond [`Snapshot::largest_r_max`]. A frame
+    /// of fewer than two discs adds nothing (it has no pairs, and an ideal gas of one has
+    /// none either).
     pub fn add(&mut self, frame: &Snapshot) -> Result<(), String> {
+        if frame.position.len() < 2 {
+            return Ok(());
+        }
         let largest = frame.largest_r_max();
         if self.r_max > largest {
             return Err(format!(
@@ -625,6 +634,26 @@ mod tests {
         let mut uneven = frames.clone();
         uneven[3].step = 31;
         assert!(super::msd(&uneven).unwrap_err().contains("evenly spaced"));
+    }
+
+    #[test]
+    fn frames_of_fewer_than_two_discs_add_nothing_and_spoil_nothing() {
+        let mut rdf = Rdf::new(10, 2.0).unwrap();
+        let pair = frame(
+            Edges::Open,
+            [10.0, 10.0],
+            vec![[0.0, 0.0], [2.5, 0.0], [0.0, 3.0]],
+        );
+        rdf.add(&pair).unwrap();
+        let (_, before) = rdf.g();
+        for lonely in [vec![], vec![[1.0, 1.0]]] {
+            let f = frame(Edges::Open, [10.0, 10.0], lonely);
+            assert_eq!(f.largest_r_max(), f64::INFINITY);
+            rdf.add(&f).unwrap();
+        }
+        assert_eq!(rdf.g().1, before);
+        assert!(before.iter().all(|g| g.is_finite()));
+        assert_eq!(psi6(&frame(Edges::Open, [1.0, 1.0], vec![[0.0, 0.0]])), 0.0);
     }
 
     #[test]
