@@ -62,6 +62,40 @@ pub struct Snapshot {
 }
 
 impl Snapshot {
+    /// The world's discs now, in id order, as a frame of its GSD trajectory holds them:
+    /// positions relative to the box centre (an open world's box: the centres' bounding box
+    /// around the origin), no periodic images.
+    pub fn of(world: &bounce::World) -> Snapshot {
+        let by_id = world.particles_by_id();
+        let (centre, size, edges) = match world.config().boundary {
+            bounce::Boundary::Periodic { min, max } => (min, max, Edges::Periodic),
+            bounce::Boundary::Walls { min, max, .. } => (min, max, Edges::Walls),
+            bounce::Boundary::Open => ([0.0; 2], [0.0; 2], Edges::Open),
+        };
+        let (centre, size) = if edges == Edges::Open {
+            let reach = by_id.iter().fold(0.0f64, |m, (_, p)| {
+                m.max(p.position[0].abs()).max(p.position[1].abs())
+            });
+            ([0.0; 2], [2.0 * reach.max(0.5); 2])
+        } else {
+            let (min, max) = (centre, size);
+            (
+                [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+                [max[0] - min[0], max[1] - min[1]],
+            )
+        };
+        Snapshot {
+            step: world.step_count(),
+            size,
+            edges,
+            position: (by_id.iter())
+                .map(|(_, p)| [p.position[0] - centre[0], p.position[1] - centre[1]])
+                .collect(),
+            image: vec![[0, 0]; by_id.len()],
+            diameter: by_id.iter().map(|(_, p)| 2.0 * p.radius).collect(),
+        }
+    }
+
     /// The mean diameter (1 without discs).
     pub fn mean_diameter(&self) -> f64 {
         if self.diameter.is_empty() {

@@ -48,6 +48,8 @@ pub struct ViewerApp {
     path: String,
     message: String,
     show_help: bool,
+    /// Show the structure: |ψ6| and the profiles along y.
+    show_structure: bool,
     headless: Option<HeadlessState>,
     /// Screen rectangles of the play/pause and step buttons (for browser tests).
     buttons: [egui::Rect; 2],
@@ -120,6 +122,7 @@ impl ViewerApp {
             path: String::new(),
             message: String::new(),
             show_help: false,
+            show_structure: false,
             buttons: [egui::Rect::NOTHING; 2],
             headless: headless.map(|(spec, result)| HeadlessState {
                 spec,
@@ -507,6 +510,14 @@ impl ViewerApp {
                 plot.line(Line::new("|momentum|", momentum));
             });
         ui.separator();
+        ui.checkbox(
+            &mut self.show_structure,
+            "structure: |ψ6| and profiles along y",
+        );
+        if self.show_structure {
+            self.structure(ui);
+        }
+        ui.separator();
         ui.label("speeds vs 2D Maxwell–Boltzmann");
         let (bars, curve) = self.speed_histogram();
         Plot::new("speeds")
@@ -518,6 +529,32 @@ impl ViewerApp {
                     BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)),
                 );
                 plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
+            });
+    }
+
+    /// The bond order and, in a box, the density and temperature profiles along y (each
+    /// scaled by its mean, so both read against 1).
+    fn structure(&self, ui: &mut egui::Ui) {
+        let (order, profile) = structure_of(&self.session.world);
+        ui.label(format!("global bond order |ψ6| = {order:.3}"));
+        let Some(p) = profile else {
+            ui.label("profiles need a box (walls or periodic)");
+            return;
+        };
+        let relative = |values: &[f64]| -> PlotPoints<'static> {
+            let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+            let scale = if mean > 0.0 { 1.0 / mean } else { 0.0 };
+            (p.centre.iter().zip(values))
+                .map(|(&y, &v)| [y, v * scale])
+                .collect()
+        };
+        Plot::new("profiles")
+            .height(150.0)
+            .legend(Legend::default())
+            .allow_scroll(false)
+            .show(ui, |plot| {
+                plot.line(Line::new("density / mean", relative(&p.density)));
+                plot.line(Line::new("temperature / mean", relative(&p.temperature)));
             });
     }
 
@@ -969,6 +1006,15 @@ fn slider<'a, N: egui::emath::Numeric>(
     egui::Slider::new(value, range).clamping(egui::SliderClamping::Edits)
 }
 
+/// The world's global bond order |ψ6| now and, in a box, its profiles along y in 20 bins
+/// (what the structure panel shows).
+fn structure_of(world: &bounce::World) -> (f64, Option<bounce_scenario::observables::Profile>) {
+    use bounce_scenario::observables::{Axis, profile};
+    use bounce_scenario::structure::{Snapshot, psi6};
+    let order = psi6(&Snapshot::of(world));
+    (order, profile(world, Axis::Y, 20).ok())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1038,6 +1084,31 @@ mod tests {
         a.run_to(3);
         a.reset();
         assert_eq!(step_of(&a.status()), 0);
+    }
+
+    #[test]
+    fn the_structure_panel_reads_a_crystal_and_a_fluid() {
+        // The hard-discs template starts on a triangular lattice and melts.
+        let mut a = app("hard-discs");
+        let (crystal, profile) = structure_of(&a.session.world);
+        assert!(crystal > 0.9, "{crystal}");
+        let profile = profile.unwrap();
+        assert_eq!(profile.count.iter().sum::<u64>(), 2000);
+        a.run_to(100);
+        let (fluid, _) = structure_of(&a.session.world);
+        assert!(fluid < 0.2, "{fluid}");
+        // The panel draws with it on.
+        a.show_structure = true;
+        let ctx = egui::Context::default();
+        let output = ctx.run_ui(egui::RawInput::default(), |ui| a.panels(ui));
+        output.drop_without_applying_deltas();
+        // An open world has no profiles.
+        let mut open = bounce::World::new(bounce::Config::default()).unwrap();
+        for x in [0.0, 3.0] {
+            open.add_particle(bounce::Particle::new([x, 0.0], [0.0, 0.0], 1.0))
+                .unwrap();
+        }
+        assert!(structure_of(&open).1.is_none());
     }
 
     #[test]
