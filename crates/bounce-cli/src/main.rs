@@ -11,6 +11,7 @@ mod render;
 mod rows;
 mod run;
 mod stats_csv;
+mod sweep;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -115,6 +116,25 @@ enum Command {
         /// record it; HOOMD-blue's boxes are periodic).
         #[arg(long, value_parser = ["periodic", "walls", "open"])]
         boundary: Option<String>,
+    },
+    /// Run a parameter sweep into a signac workspace: every combination of the sweep
+    /// file's `[parameters]` lists (and `seeds` replicas), one `bounce run` per job, a
+    /// summary.csv; or write a Slurm job array for it.
+    Sweep {
+        /// The sweep file (TOML): `scenario`, optional `steps` and `seeds`, `[parameters]`.
+        sweep: PathBuf,
+        /// The workspace (signac's layout; created if missing, finished jobs kept).
+        #[arg(long, default_value = "sweep")]
+        out: PathBuf,
+        /// Jobs run at once (each gets its share of the cores).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+        jobs: u16,
+        /// Run job K only (a Slurm array task).
+        #[arg(long, value_name = "K", conflicts_with = "slurm")]
+        task_id: Option<usize>,
+        /// Write WORKSPACE/sweep.sbatch, a Slurm job array over every job, instead of running.
+        #[arg(long)]
+        slurm: bool,
     },
     /// Validate a scenario file and report every problem with its line.
     Check {
@@ -346,6 +366,22 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 r_max,
                 bin,
                 edges,
+            })?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Sweep {
+            sweep,
+            out,
+            jobs,
+            task_id,
+            slurm,
+        } => {
+            sweep::sweep(&sweep::Request {
+                sweep: &sweep,
+                out: &out,
+                jobs: jobs as usize,
+                task_id,
+                slurm,
             })?;
             Ok(ExitCode::SUCCESS)
         }
