@@ -130,9 +130,13 @@ enum Command {
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
         jobs: u16,
         /// Run job K only (a Slurm array task).
-        #[arg(long, value_name = "K", conflicts_with = "slurm")]
+        #[arg(long, value_name = "K", conflicts_with_all = ["slurm", "job"])]
         task_id: Option<usize>,
-        /// Write WORKSPACE/sweep.sbatch, a Slurm job array over every job, instead of running.
+        /// Run the job of this id (its directory's name) only: what row's workflow passes.
+        #[arg(long, value_name = "ID", conflicts_with = "slurm")]
+        job: Option<String>,
+        /// Write WORKSPACE/sweep.sbatch (a Slurm job array over every job) and
+        /// WORKSPACE/workflow.toml (the same for glotzerlab's row) instead of running.
         #[arg(long)]
         slurm: bool,
     },
@@ -374,6 +378,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             out,
             jobs,
             task_id,
+            job,
             slurm,
         } => {
             sweep::sweep(&sweep::Request {
@@ -381,6 +386,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 out: &out,
                 jobs: jobs as usize,
                 task_id,
+                job,
                 slurm,
             })?;
             Ok(ExitCode::SUCCESS)

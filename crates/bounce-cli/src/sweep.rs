@@ -16,8 +16,9 @@
 //! point and its last `stats.csv` row.
 //!
 //! `--jobs N` runs N at once, each with its share of the cores; `--task-id K` runs job K
-//! only (a Slurm array task); `--slurm` writes `WORKSPACE/sweep.sbatch`, a job array over
-//! every job, instead of running.
+//! only (a Slurm array task), `--job ID` the job of that id (what `row` passes);
+//! `--slurm` writes `WORKSPACE/sweep.sbatch`, a job array over every job, and
+//! `WORKSPACE/workflow.toml`, the same for glotzerlab's `row`, instead of running.
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -214,6 +215,8 @@ pub struct Request<'a> {
     pub out: &'a Path,
     pub jobs: usize,
     pub task_id: Option<usize>,
+    /// Run the job whose id (its directory's name) this is: what `row` passes.
+    pub job: Option<String>,
     pub slurm: bool,
 }
 
@@ -304,14 +307,24 @@ pub fn sweep(request: &Request) -> Result<()> {
     if request.slurm {
         return write_slurm(request, sweep.jobs.len());
     }
-    let chosen: Vec<usize> = match request.task_id {
-        Some(k) if k < sweep.jobs.len() => vec![k],
-        Some(k) => bail!(
+    let chosen: Vec<usize> = match (request.task_id, &request.job) {
+        (Some(k), _) if k < sweep.jobs.len() => vec![k],
+        (Some(k), _) => bail!(
             "--task-id {k}: the sweep has jobs 0..{} ({} in all)",
             sweep.jobs.len() - 1,
             sweep.jobs.len()
         ),
-        None => (0..sweep.jobs.len()).collect(),
+        (None, Some(id)) => {
+            // `row` may pass the directory with the workspace before it.
+            let id = Path::new(id)
+                .file_name()
+                .map_or(id.as_str(), |n| n.to_str().unwrap_or(id));
+            match sweep.jobs.iter().position(|j| j.id() == id) {
+                Some(k) => vec![k],
+                None => bail!("--job {id}: no job of this sweep has that id"),
+            }
+        }
+        (None, None) => (0..sweep.jobs.len()).collect(),
     };
     let (done, todo): (Vec<usize>, Vec<usize>) = chosen.into_iter().partition(|&k| {
         workspace
@@ -457,10 +470,30 @@ fn write_slurm(request: &Request, jobs: usize) -> Result<()> {
     );
     let path = request.out.join("sweep.sbatch");
     write_file(&path, &script)?;
+    let workflow = format!(
+        "# The sweep for glotzerlab's row (https://row.readthedocs.io): `row submit` here\n\
+         # submits every job whose directory lacks bounce_done.\n\
+         [workspace]\n\
+         path = \"workspace\"\n\
+         value_file = \"signac_statepoint.json\"\n\
+         \n\
+         [[action]]\n\
+         name = \"run\"\n\
+         command = \"{exe} sweep {sweep} --out {out} --job {{directory}}\"\n\
+         products = [\"bounce_done\"]\n\
+         resources.processes.per_directory = 1\n\
+         resources.walltime.per_directory = \"01:00:00\"\n",
+        exe = exe.display(),
+        sweep = absolute(request.sweep).display(),
+        out = absolute(request.out).display(),
+    );
+    write_file(&request.out.join("workflow.toml"), &workflow)?;
     println!(
-        "{}: a job array of {jobs} tasks (0..{}); submit it with sbatch",
+        "{}: a job array of {jobs} tasks (0..{}); submit it with sbatch (or `row submit` \
+         with {})",
         path.display(),
-        jobs - 1
+        jobs - 1,
+        request.out.join("workflow.toml").display()
     );
     Ok(())
 }

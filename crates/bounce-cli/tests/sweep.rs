@@ -167,6 +167,37 @@ fn a_task_id_runs_its_job_alone_and_a_slurm_array_covers_every_job() {
         jobs(&out).iter().all(|d| !d.join("stats.csv").exists()),
         "ran"
     );
+    // The same for row: a workflow over the signac workspace whose action runs one job.
+    let workflow: toml::Table = std::fs::read_to_string(out.join("workflow.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(
+        workflow["workspace"]["value_file"].as_str(),
+        Some("signac_statepoint.json")
+    );
+    let action = &workflow["action"][0];
+    assert!(
+        action["command"]
+            .as_str()
+            .unwrap()
+            .ends_with("--job {directory}")
+    );
+    assert_eq!(action["products"][0].as_str(), Some("bounce_done"));
+    // What row runs: `--job <directory>` runs that job alone.
+    let last = jobs(&out).pop().unwrap();
+    let id = last.file_name().unwrap().to_str().unwrap().to_string();
+    let (code, stdout, stderr) = sweep(&file, &out, &["--job", &format!("workspace/{id}")]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains(&format!("({id}) done")), "{stdout}");
+    assert!(last.join("bounce_done").exists());
+    std::fs::remove_file(last.join("bounce_done")).unwrap();
+    let (code, _, stderr) = sweep(&file, &out, &["--job", "0123"]);
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains("--job 0123: no job of this sweep has that id"),
+        "{stderr}"
+    );
     // Task 2 runs job 2 (the product's order: counts 600 then e 0.9) and nothing else.
     let (code, stdout, stderr) = sweep(&file, &out, &["--task-id", "2"]);
     assert_eq!(code, 0, "{stderr}");
