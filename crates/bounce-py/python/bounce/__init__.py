@@ -61,5 +61,33 @@ __all__ = [
     "rdf",
     "psi6",
     "msd",
+    "sweep",
     "__version__",
 ]
+
+
+def sweep(sweep_file, out="sweep", jobs=1, command="bounce"):
+    """Runs ``bounce sweep SWEEP_FILE --out OUT --jobs JOBS`` (the command line's parameter
+    sweep into a signac workspace; ``command`` is the ``bounce`` executable) and returns the
+    workspace as a signac project when signac is installed, else ``summary.csv``'s rows as
+    a list of dicts (one per finished job: its id, settings and last stats row).
+
+    Raises ``RuntimeError`` with the command's message when the sweep fails.
+    """
+    import csv
+    import pathlib
+    import subprocess
+
+    done = subprocess.run(
+        [str(command), "sweep", str(sweep_file), "--out", str(out), "--jobs", str(int(jobs))],
+        capture_output=True,
+        text=True,
+    )
+    if done.returncode != 0:
+        raise RuntimeError((done.stderr or done.stdout).strip())
+    try:
+        import signac
+    except ImportError:
+        with open(pathlib.Path(out) / "summary.csv", newline="") as f:
+            return list(csv.DictReader(f))
+    return signac.get_project(str(out))

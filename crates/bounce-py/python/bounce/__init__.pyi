@@ -389,3 +389,9 @@ def msd(
 ) -> Tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64]]:
     """The mean-square displacement over every origin: ``(lags in steps, msd)``."""
     ...
+
+def sweep(
+    sweep_file: _Path, out: _Path = "sweep", jobs: int = 1, command: _Path = "bounce"
+) -> object:
+    """Runs ``bounce sweep``; the signac project (or summary rows without signac)."""
+    ...
