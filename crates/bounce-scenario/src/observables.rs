@@ -37,6 +37,20 @@ pub struct Profile {
 
 /// The profile of `world` along `axis` in `bins` equal bins across its box (a disc on the
 /// top edge goes into the last bin). Refused in an open world, which has no box.
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, World};
+/// use bounce_scenario::observables::{Axis, profile};
+/// let config = Config { boundary: Boundary::walls([0.0, 0.0], [10.0, 4.0]), ..Config::default() };
+/// let mut world = World::new(config).unwrap();
+/// world.add_particle(Particle::new([2.0, 2.0], [1.0, 0.0], 0.5)).unwrap();
+/// world.add_particle(Particle::new([3.0, 2.0], [3.0, 0.0], 0.5)).unwrap();
+/// let p = profile(&world, Axis::X, 2).unwrap();
+/// assert_eq!((p.count, p.centre), (vec![2, 0], vec![2.5, 7.5]));
+/// assert_eq!(p.velocity[0], [2.0, 0.0]); // equal masses
+/// // ½ m |v − u|² summed, over count − 1: ½ · 0.5 · (1 + 1) / 1 (mass = radius).
+/// assert_eq!(p.temperature[0], 0.5);
+/// ```
 pub fn profile(world: &World, axis: Axis, bins: usize) -> Result<Profile, String> {
     let Some((min, max)) = world.config().boundary.bounds() else {
         return Err("a profile needs a box (walls or periodic), not an open world".into());

@@ -410,6 +410,25 @@ pub fn rdf(
 }
 
 /// The global bond-orientational order |ψ6| of a frame (0 for fewer than two discs).
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, World};
+/// use bounce_scenario::structure::{Snapshot, psi6};
+/// // A triangular lattice of spacing 1 filling a periodic box: perfect six-fold order.
+/// let (columns, rows, h) = (12, 12, 3f64.sqrt() / 2.0);
+/// let config = Config {
+///     boundary: Boundary::periodic([0.0, 0.0], [columns as f64, rows as f64 * h]),
+///     ..Config::default()
+/// };
+/// let mut world = World::new(config).unwrap();
+/// for j in 0..rows {
+///     for i in 0..columns {
+///         let x = i as f64 + 0.5 * (j % 2) as f64 + 0.25;
+///         world.add_particle(Particle::new([x, j as f64 * h + 0.25], [0.0; 2], 0.4)).unwrap();
+///     }
+/// }
+/// assert!((psi6(&Snapshot::of(&world)) - 1.0).abs() < 1e-9);
+/// ```
 pub fn psi6(frame: &Snapshot) -> f64 {
     let n = frame.position.len();
     if n < 2 {
