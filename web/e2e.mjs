@@ -104,6 +104,12 @@ try {
     result.repose_2500 = await page.evaluate(() => window.bounceFallback.runTo("angle-of-repose", 2500));
     result.repose_turned = await page.evaluate(() => window.bounceFallback.turned("angle-of-repose", 300));
     result.effusion_regions = await page.evaluate(() => window.bounceFallback.regions("effusion"));
+    result.hourglass_regions = await page.evaluate(() => window.bounceFallback.regions("hourglass"));
+    result.hourglass_sensed = await page.evaluate(() => window.bounceFallback.sensed("hourglass", 600));
+    result.gas_flashes = await page.evaluate(() => window.bounceFallback.flashes("gas", 20));
+    await page.check("#flash");
+    await sleep(300);
+    result.flashing = await page.evaluate(() => document.getElementById("flash").checked);
   }
   if (mode === "webgl" || mode === "fallback") {
     result.steps = ["running", "paused_a", "paused_b", "stepped", "resumed"].map((k) => stepOf(result[k]));

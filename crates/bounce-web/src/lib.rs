@@ -5,7 +5,7 @@
 //! computes the same bits as a native run. Built by `scripts/build-web` into `web/dist`.
 #![cfg(target_arch = "wasm32")]
 
-use bounce::Shape;
+use bounce::{Region, Shape};
 use bounce_scenario::Session;
 use bounce_scenario::palette::Palette;
 use bounce_viewer::ViewerApp;
@@ -179,16 +179,43 @@ impl Simulation {
             .collect()
     }
 
-    /// `[kind, min_x, min_y, max_x, max_y, ...]` of the emitters' (kind 0) and the sinks'
-    /// (kind 1) regions, which the page outlines.
+    /// `[kind, a, b, c, d, ...]` of the regions the page outlines: the emitters' (kind 0)
+    /// and the sinks' (kind 1) boxes and the sensors' boxes (kind 2), each from `(a, b)` to
+    /// `(c, d)`, and the sensors' circles (kind 3) around `(a, b)` of radius `c` (`d` = 0).
     pub fn regions(&self) -> Vec<f64> {
         let config = self.session.world.config();
         let emitters = config.emitters.iter().map(|e| (0.0, e.min, e.max));
         let sinks = config.sinks.iter().map(|s| (1.0, s.min, s.max));
+        let sensors = config.sensors.iter().map(|s| match s.region {
+            Region::Box { min, max } => (2.0, min, max),
+            Region::Circle { centre, radius } => (3.0, centre, [radius, 0.0]),
+        });
         emitters
             .chain(sinks)
+            .chain(sensors)
             .flat_map(|(kind, min, max)| [kind, min[0], min[1], max[0], max[1]])
             .collect()
+    }
+
+    /// One line per sensor: `NAME: I inside · E in · L out` (the discs inside now, and those
+    /// that entered and left since the start).
+    pub fn sensors(&self) -> String {
+        sensor_lines(&self.session.world)
+    }
+
+    /// Records contact events (`true`) or not, for [`Simulation::impacts`].
+    pub fn set_flash(&mut self, on: bool) -> Result<(), JsValue> {
+        let mut config = self.session.world.config().clone();
+        config.contact_events = on;
+        (self.session.world)
+            .set_config(config)
+            .map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// `[x, y, normal_impulse, ...]` of the contacts that began in the last step (empty
+    /// unless [`Simulation::set_flash`] is on): where the page flashes.
+    pub fn impacts(&self) -> Vec<f64> {
+        impact_points(&self.session.world)
     }
 
     /// `[min_x, min_y, max_x, max_y]`: the region the session shows.
@@ -208,4 +235,26 @@ impl Simulation {
             self.session.origin
         )
     }
+}
+
+/// The sensors' lines of [`Simulation::sensors`].
+pub fn sensor_lines(world: &bounce::World) -> String {
+    let lines: Vec<String> = (world.config().sensors.iter())
+        .zip(world.sensors())
+        .map(|(s, c)| {
+            format!(
+                "{}: {} inside · {} in · {} out",
+                s.name, c.inside, c.entered, c.left
+            )
+        })
+        .collect();
+    lines.join("\n")
+}
+
+/// The points of [`Simulation::impacts`].
+pub fn impact_points(world: &bounce::World) -> Vec<f64> {
+    (world.contact_events().iter())
+        .filter(|e| e.kind == bounce::ContactKind::Begin)
+        .flat_map(|e| [e.point[0], e.point[1], e.normal_impulse])
+        .collect()
 }

@@ -215,6 +215,47 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
         serde_json::json!([1, 70, 0, 80, 40]),
         "{result}"
     );
+    // The hourglass's sensor (kind 2), outlined, and its counts as a native run has them.
+    assert_eq!(
+        result["hourglass_regions"],
+        serde_json::json!([2, 4, 4, 36, 38]),
+        "{result}"
+    );
+    let mut hourglass = bounce_scenario::Session::builtin("hourglass").unwrap();
+    for _ in 0..600 {
+        hourglass.step().unwrap();
+    }
+    let count = &hourglass.world.sensors()[0];
+    assert!(count.entered > 0, "grains came through by step 600");
+    assert_eq!(
+        result["hourglass_sensed"].as_str(),
+        Some(
+            format!(
+                "lower_bulb: {} inside · {} in · {} out",
+                count.inside, count.entered, count.left
+            )
+            .as_str()
+        ),
+        "{result}"
+    );
+    // The impacts it flashes: the contacts that began in the step, as natively.
+    let mut gas = bounce_scenario::Session::builtin("gas").unwrap();
+    let mut config = gas.world.config().clone();
+    config.contact_events = true;
+    gas.world.set_config(config).unwrap();
+    for _ in 0..20 {
+        gas.step().unwrap();
+    }
+    let begun = (gas.world.contact_events().iter())
+        .filter(|e| e.kind == bounce::ContactKind::Begin)
+        .count();
+    assert!(begun > 0);
+    assert_eq!(
+        result["gas_flashes"].as_u64(),
+        Some(begun as u64),
+        "{result}"
+    );
+    assert_eq!(result["flashing"], serde_json::json!(true), "{result}");
     let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
     assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
 }
