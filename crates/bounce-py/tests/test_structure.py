@@ -117,3 +117,21 @@ def test_bad_input_names_the_problem(fluid, tmp_path):
         bounce.psi6(fluid, boundary="round")
     with pytest.raises(ValueError, match="first frame 99"):
         bounce.msd(fluid, first=99)
+
+
+def test_a_worlds_structure_now_equals_its_gsd_frames(tmp_path):
+    """``rdf`` and ``psi6`` of a World read its state as a GSD frame of it holds it."""
+    world = bounce.World.from_scenario(__import__("conftest").ROOT / "scenarios" / "hard-discs.toml")
+    world.step(30)
+    with bounce.GSDWriter(str(tmp_path / "now.gsd"), every=1) as gsd:
+        world.add_writer(gsd)
+        world.step(1)
+    r, g = bounce.rdf(world, r_max=5.0, bin=0.05)
+    r_file, g_file = bounce.rdf(tmp_path / "now.gsd", r_max=5.0, bin=0.05, first=-1)
+    # The file holds float32 positions: the same bins within a few pairs' worth.
+    assert np.array_equal(r, r_file)
+    assert np.abs(g - g_file).max() < 0.05
+    steps, order = bounce.psi6(world)
+    assert list(steps) == [31] and abs(order[0] - bounce.psi6(tmp_path / "now.gsd", first=-1)[1][0]) < 1e-4
+    with pytest.raises(TypeError, match="bounce.World"):
+        bounce.psi6(3.5)

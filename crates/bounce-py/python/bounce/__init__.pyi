@@ -365,7 +365,7 @@ class World:
     def __len__(self) -> int: ...
 
 def rdf(
-    path: _Path,
+    source: Union[_Path, World],
     r_max: Optional[float] = None,
     bin: Optional[float] = None,
     first: int = 0,
@@ -375,7 +375,7 @@ def rdf(
     ...
 
 def psi6(
-    path: _Path,
+    source: Union[_Path, World],
     first: int = 0,
     boundary: Optional[Literal["periodic", "walls", "open"]] = None,
 ) -> Tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64]]:
