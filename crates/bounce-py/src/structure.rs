@@ -22,9 +22,9 @@ fn frames_of(
         let world = world.borrow();
         return Ok(("the world".into(), vec![Snapshot::of(&world.get())]));
     }
-    let path: PathBuf = source.extract().map_err(|_| {
-        PyTypeError::new_err("expected a GSD trajectory's path or a bounce.World")
-    })?;
+    let path: PathBuf = source
+        .extract()
+        .map_err(|_| PyTypeError::new_err("expected a GSD trajectory's path or a bounce.World"))?;
     let frames = frames(&path, first, boundary)?;
     Ok((path.display().to_string(), frames))
 }
