@@ -467,3 +467,53 @@ fn what_ranks_cannot_share_yet_is_refused_with_its_name() {
         );
     }
 }
+
+#[test]
+fn profiles_and_displacements_are_the_same_bytes_on_any_number_of_ranks_and_after_a_resume() {
+    // The periodic Brownian scene: discs cross the box, so the MSD unwraps their images.
+    let dir = tempfile::tempdir().unwrap();
+    let extra = [
+        "--set",
+        "output.msd=true",
+        "--set",
+        "output.profile={ axis = \"y\", bins = 4 }",
+        "--set",
+        "output.stats_every=20",
+        "--steps",
+        "100",
+    ];
+    let files =
+        |out: &Path| ["profile.csv", "msd.csv"].map(|f| std::fs::read(out.join(f)).unwrap());
+    let one = dir.path().join("one");
+    ok(run(None, "brownian.toml", &one, &extra), "one process");
+    let reference = files(&one);
+    assert!(reference[1].len() > 100);
+    for ranks in [2, 3] {
+        let out = dir.path().join(format!("r{ranks}"));
+        ok(run(Some(ranks), "brownian.toml", &out, &extra), "ranks");
+        assert!(
+            files(&out) == reference,
+            "{ranks} ranks: profile.csv or msd.csv differs"
+        );
+    }
+    // Stopped at step 40 on three ranks, resumed on two: the origin travels in the checkpoint.
+    let resumed = dir.path().join("resumed");
+    let mut first = extra.to_vec();
+    let last = first.len() - 1;
+    first[last] = "40";
+    ok(
+        run(Some(3), "brownian.toml", &resumed, &first),
+        "first part",
+    );
+    let checkpoint = resumed.join("checkpoint.bin");
+    let mut rest = extra.to_vec();
+    rest.extend(["--resume", checkpoint.to_str().unwrap()]);
+    ok(
+        run(Some(2), "brownian.toml", &resumed, &rest),
+        "resumed part",
+    );
+    assert!(
+        files(&resumed) == reference,
+        "a resumed profile.csv or msd.csv differs"
+    );
+}
