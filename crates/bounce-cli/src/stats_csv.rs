@@ -25,6 +25,11 @@
 //! (`bounce::World::pressure_tensor`: kinetic plus collisional, at the row's step like
 //! `pressure`, whose value is the mean of the first two).
 //!
+//! `[output] dissipation = true` adds `dissipated`: the energy (kinetic, rotational,
+//! potential) the discs lost since the previous row beyond what the thermostat and moving
+//! obstacles put in: inelastic collisions and friction (negative where the seed's model
+//! gains energy).
+//!
 //! A thermostat (`[world] thermostat`) adds `thermostat_work`: the kinetic energy it added
 //! since the previous row (negative where it took energy away).
 //!
@@ -81,6 +86,8 @@ pub struct ScenarioColumns {
     thermostat: bool,
     /// Whether to write the pressure tensor.
     pressure_tensor: bool,
+    /// Whether to write `dissipated`.
+    dissipation: bool,
 }
 
 impl ScenarioColumns {
@@ -95,6 +102,7 @@ impl ScenarioColumns {
             work: groups.iter().any(|g| g.moving),
             thermostat: session.world.config().thermostat.is_some(),
             pressure_tensor: session.world.config().pressure_tensor,
+            dissipation: session.output.dissipation,
             groups: groups
                 .into_iter()
                 .filter_map(|g| Some((g.name?, g.range, g.moving)))
@@ -131,6 +139,9 @@ impl ScenarioColumns {
         }
         if self.pressure_tensor {
             out.extend(["pressure_xx", "pressure_yy", "pressure_xy"].map(String::from));
+        }
+        if self.dissipation {
+            out.push("dissipated".into());
         }
         out
     }
@@ -187,8 +198,23 @@ impl ScenarioColumns {
                 out.push(tensor.map_or_else(String::new, |t| t[k].to_string()));
             }
         }
+        if self.dissipation {
+            // What left the discs' energy beyond what the thermostat and moving obstacles
+            // put in (0 at the first row).
+            let lost = totals.row_energy.map_or(0.0, |before| {
+                before + totals.thermostat_work + totals.obstacle_work - total_energy(world)
+            });
+            out.push(lost.to_string());
+        }
         out
     }
+}
+
+/// The discs' kinetic, rotational and potential energy, summed in id order (what
+/// `dissipated` balances).
+pub fn total_energy(world: &World) -> f64 {
+    let (kinetic, _) = bounce_scenario::analysis::motion_sums(world);
+    kinetic + world.rotational_energy() + bounce_scenario::analysis::potential_energy(world)
 }
 
 /// Running totals since the previous row.
@@ -219,6 +245,7 @@ impl Totals {
             t.wall_impulse += stats.wall_impulse.total();
             t.max_overlap = t.max_overlap.max(stats.max_overlap);
             t.thermostat_work += stats.thermostat_work;
+            t.obstacle_work += stats.obstacle_work;
             t.elapsed += dt;
             t.obstacle_impulse.resize(impulses.len(), [0.0; 2]);
             for (sum, j) in t.obstacle_impulse.iter_mut().zip(impulses) {
@@ -234,12 +261,17 @@ impl Totals {
         }
     }
 
-    /// A row was written (`scheduled`: on the schedule, not a run's extra last row).
-    pub fn reset(&mut self, scheduled: bool) {
-        self.row = RunState::default();
+    /// A row of `world` was written (`scheduled`: on the schedule, not a run's extra last
+    /// row).
+    pub fn reset(&mut self, scheduled: bool, world: &World) {
+        let fresh = RunState {
+            row_energy: Some(total_energy(world)),
+            ..RunState::default()
+        };
         if scheduled {
-            self.scheduled = RunState::default();
+            self.scheduled = fresh.clone();
         }
+        self.row = fresh;
     }
 
     /// What a checkpoint keeps.
@@ -331,7 +363,7 @@ impl StatsCsv {
         ];
         record.extend(extra);
         self.writer.write_record(record)?;
-        self.totals.reset(scheduled);
+        self.totals.reset(scheduled, world);
         Ok(())
     }
 

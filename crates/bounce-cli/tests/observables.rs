@@ -225,3 +225,111 @@ fn a_resume_refuses_a_file_of_another_run_naming_it() {
             .contains(",temp\n")
     );
 }
+
+/// A shipped template run for `steps` with `output.dissipation` and `extra` settings; its
+/// stats.csv as a header and rows.
+fn dissipation_run(
+    s: &Scratch,
+    template: &str,
+    out: &str,
+    extra: &[&str],
+) -> (Vec<String>, Vec<Vec<f64>>) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("run")
+            .arg(root.join(format!("{template}.toml")))
+            .args(["-q", "--set", "output.dissipation=true"])
+            .args(["--set", "output.frame_every=0", "--set", "output.gif=false"])
+            .args(["--set", "output.plots=false", "--set", "output.gsd_every=0"])
+            .args(extra)
+            .arg("--out")
+            .arg(s.path(out)),
+    );
+    assert_eq!(code, 0, "{stderr}");
+    table(&s.path(out).join("stats.csv"))
+}
+
+#[test]
+fn the_dissipated_energy_balances_the_work_put_in_and_matches_the_collisional_loss() {
+    let s = Scratch::new();
+    let column = |header: &[String], name: &str| header.iter().position(|h| h == name).unwrap();
+    // Elastic discs: a piston doing work, and white-noise kicks, both accounted for.
+    for (template, extra) in [
+        ("piston", vec!["--steps", "300"]),
+        (
+            "gas",
+            vec![
+                "--steps",
+                "300",
+                "--set",
+                "world.thermostat={ kind = \"white_noise\", temperature = 1.0, rate = 0.5 }",
+            ],
+        ),
+    ] {
+        let (header, rows) = dissipation_run(&s, template, template, &extra);
+        let (lost, energy) = (
+            column(&header, "dissipated"),
+            column(&header, "kinetic_energy"),
+        );
+        assert_eq!(rows[0][lost], 0.0);
+        for r in &rows {
+            assert!(r[lost].abs() < 1e-9 * r[energy], "{template}: {r:?}");
+        }
+    }
+    // The driven granular gas: in the steady state the collisions take out what the kicks
+    // put in, at the rate kinetic theory gives at the measured temperature,
+    // (1 − e²) n σ χ √π T^{3/2} / √m (1 + 3a₂/16) a disc (Enskog; van Noije & Ernst's a₂).
+    let (header, rows) = dissipation_run(&s, "driven-granular", "driven", &[]);
+    let late: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] > 200.0).collect();
+    let span = late.len() as f64 * 10.0 * 0.05 * 2000.0; // rows of 10 steps of 0.05, a disc
+    let sum = |name: &str| late.iter().map(|r| r[column(&header, name)]).sum::<f64>();
+    let (lost, put_in) = (sum("dissipated") / span, sum("thermostat_work") / span);
+    assert!((lost / put_in - 1.0).abs() < 0.02, "{lost} vs {put_in}");
+    let t = sum("temperature") / late.len() as f64;
+    let (e, eta, m): (f64, f64, f64) = (0.9, 0.2, 0.5);
+    let n = eta / (std::f64::consts::PI / 4.0);
+    let chi = (1.0 - 7.0 * eta / 16.0) / (1.0 - eta).powi(2);
+    let a2 = 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e)
+        / (73.0 + 112.0 - 48.0 * e - 105.0 * e + 30.0 * (1.0 - e) * e * e);
+    let theory = (1.0 - e * e) * n * chi * std::f64::consts::PI.sqrt() * t.powf(1.5) / m.sqrt()
+        * (1.0 + 3.0 * a2 / 16.0);
+    assert!(
+        (lost / theory - 1.0).abs() < 0.06,
+        "{lost} vs Enskog's {theory} at kT = {t}"
+    );
+    // Resumed, the column continues byte for byte.
+    let settings = ["--set", "world.coefficient_of_restitution=0.8"];
+    dissipation_run(
+        &s,
+        "gas",
+        "whole",
+        &[&settings[..], &["--steps", "60"]].concat(),
+    );
+    dissipation_run(
+        &s,
+        "gas",
+        "cut",
+        &[&settings[..], &["--steps", "25"]].concat(),
+    );
+    let checkpoint = s.path("cut/checkpoint.bin");
+    let resume = ["--steps", "60", "--resume", checkpoint.to_str().unwrap()];
+    dissipation_run(&s, "gas", "cut", &[&settings[..], &resume[..]].concat());
+    assert_eq!(
+        std::fs::read(s.path("whole/stats.csv")).unwrap(),
+        std::fs::read(s.path("cut/stats.csv")).unwrap()
+    );
+    // Not with emitters or sinks, whose discs bring and take energy.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let (code, _, stderr) = output(
+        bounce()
+            .arg("check")
+            .arg(root.join("effusion.toml"))
+            .args(["--set", "output.dissipation=true"]),
+    );
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains("output.dissipation: not with [[emitter]] or [[sink]]"),
+        "{stderr}"
+    );
+}

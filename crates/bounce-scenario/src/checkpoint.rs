@@ -54,6 +54,11 @@ pub struct RunState {
     pub thermostat_work: f64,
     /// The state `msd.csv` measures from (with `[output] msd`).
     pub origin: Option<crate::observables::Origin>,
+    /// The work moving obstacles did on the discs since the last row.
+    pub obstacle_work: f64,
+    /// The discs' energy (kinetic, rotational, potential) at the last row, which
+    /// `dissipated` is measured from (`None` before the first row).
+    pub row_energy: Option<f64>,
 }
 
 /// A decoded checkpoint.
@@ -100,6 +105,11 @@ impl RunState {
                 "the msd origin's {} ids and {} states must match, ids ascending, values finite",
                 origin.ids.len(),
                 origin.state.len()
+            ))
+        } else if !(self.obstacle_work.is_finite() && self.row_energy.is_none_or(f64::is_finite)) {
+            Some(format!(
+                "obstacle_work = {}, row_energy = {:?} must be finite",
+                self.obstacle_work, self.row_energy
             ))
         } else if !self.thermostat_work.is_finite() {
             Some(format!(
@@ -398,6 +408,8 @@ pub(crate) mod tests {
             obstacle_impulse: Vec::new(),
             sensor_crossings: Vec::new(),
             thermostat_work: -1.5,
+            obstacle_work: 0.25,
+            row_energy: Some(12.5),
             origin: Some(crate::observables::Origin {
                 ids: vec![0, 2],
                 state: vec![[1.0, 2.0, 3.0, 4.0], [-1.0, 0.5, 0.0, 2.0]],

@@ -562,6 +562,9 @@ pub struct OutputSpec {
     /// The pressure tensor in `stats.csv` (`pressure_xx`, `pressure_yy`, `pressure_xy`);
     /// default false.
     pub pressure_tensor: bool,
+    /// The energy dissipated since the previous row in `stats.csv` (`dissipated`); default
+    /// false. Not with emitters or sinks, whose discs bring and take energy.
+    pub dissipation: bool,
 }
 
 /// `[output] profile`.
@@ -591,6 +594,7 @@ impl Default for OutputSpec {
             profile: None,
             msd: false,
             pressure_tensor: false,
+            dissipation: false,
         }
     }
 }
@@ -1123,6 +1127,14 @@ impl Scenario {
                     "world.{}",
                     e.to_string().trim_start_matches("invalid config: ")
                 ),
+            );
+        }
+        if self.output.dissipation && !(self.emitter.is_empty() && self.sink.is_empty()) {
+            at(
+                line_of_key(source, "output", "dissipation"),
+                "output.dissipation: not with [[emitter]] or [[sink]] tables, whose discs bring \
+                 and take energy"
+                    .into(),
             );
         }
         if let Some(profile) = self.output.profile {
