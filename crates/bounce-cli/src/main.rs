@@ -357,12 +357,8 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             bin,
             boundary,
         } => {
-            use bounce_scenario::structure::Edges;
-            let edges = boundary.map(|b| match b.as_str() {
-                "walls" => Edges::Walls,
-                "open" => Edges::Open,
-                _ => Edges::Periodic,
-            });
+            // (clap has checked the name.)
+            let edges = boundary.and_then(|b| bounce_scenario::structure::Edges::from_name(&b));
             analyze::analyze(&analyze::Request {
                 trajectory: &trajectory,
                 out: &out,

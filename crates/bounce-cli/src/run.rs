@@ -272,7 +272,7 @@ fn overflowed(
         let stats = *world.step(dt)?;
         totals.add(&stats, &world, dt);
         if schedule.on(schedule.output.stats_every, world.step_count()) {
-            totals.reset(true, &world);
+            totals.reset(true, outputs.stats.row_energy(&world));
         }
     }
     outputs.finish_at(&world, totals.checkpoint())?;

@@ -147,7 +147,7 @@ impl ScenarioColumns {
     }
 
     /// This row's values of these columns.
-    fn values(&self, world: &World, totals: &RunState) -> Vec<String> {
+    fn values(&self, world: &World, totals: &RunState, energy: Option<f64>) -> Vec<String> {
         let mut out = Vec::new();
         let shapes = world.obstacle_shapes();
         for (_, range, moving) in &self.groups {
@@ -198,11 +198,11 @@ impl ScenarioColumns {
                 out.push(tensor.map_or_else(String::new, |t| t[k].to_string()));
             }
         }
-        if self.dissipation {
+        if let Some(now) = energy {
             // What left the discs' energy beyond what the thermostat and moving obstacles
             // put in (0 at the first row).
             let lost = totals.row_energy.map_or(0.0, |before| {
-                before + totals.thermostat_work + totals.obstacle_work - total_energy(world)
+                before + totals.thermostat_work + totals.obstacle_work - now
             });
             out.push(lost.to_string());
         }
@@ -261,11 +261,11 @@ impl Totals {
         }
     }
 
-    /// A row of `world` was written (`scheduled`: on the schedule, not a run's extra last
-    /// row).
-    pub fn reset(&mut self, scheduled: bool, world: &World) {
+    /// A row was written (`scheduled`: on the schedule, not a run's extra last row), with
+    /// the discs' energy then when `dissipated` is written.
+    pub fn reset(&mut self, scheduled: bool, row_energy: Option<f64>) {
         let fresh = RunState {
-            row_energy: Some(total_energy(world)),
+            row_energy,
             ..RunState::default()
         };
         if scheduled {
@@ -344,7 +344,8 @@ impl StatsCsv {
             .pressure
             .and_then(|_| world.pressure(energy, momentum, s.virial));
         let t = &self.totals.row;
-        let extra = self.obstacles.values(world, t);
+        let row_energy = self.row_energy(world);
+        let extra = self.obstacles.values(world, t, row_energy);
         let mut record = vec![
             world.step_count().to_string(),
             world.time().to_string(),
@@ -363,8 +364,13 @@ impl StatsCsv {
         ];
         record.extend(extra);
         self.writer.write_record(record)?;
-        self.totals.reset(scheduled, world);
+        self.totals.reset(scheduled, row_energy);
         Ok(())
+    }
+
+    /// The discs' energy `dissipated` is measured from, when it is written.
+    pub fn row_energy(&self, world: &World) -> Option<f64> {
+        self.obstacles.dissipation.then(|| total_energy(world))
     }
 
     /// Flushes and renames the file into place.

@@ -39,14 +39,11 @@ fn frames(path: &Path, first: i64, boundary: Option<&str>) -> PyResult<Vec<Snaps
     }
     let edges = match boundary {
         None => None,
-        Some("periodic") => Some(Edges::Periodic),
-        Some("walls") => Some(Edges::Walls),
-        Some("open") => Some(Edges::Open),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "boundary = {other:?}: expected \"periodic\", \"walls\" or \"open\""
-            )));
-        }
+        Some(name) => Some(Edges::from_name(name).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "boundary = {name:?}: expected \"periodic\", \"walls\" or \"open\""
+            ))
+        })?),
     };
     let mut trajectory = Trajectory::open(path).map_err(PyValueError::new_err)?;
     trajectory

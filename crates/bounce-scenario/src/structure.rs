@@ -34,6 +34,14 @@ pub enum Edges {
 }
 
 impl Edges {
+    /// The edges `bounce analyze --boundary` and Python's `boundary=` name: `periodic`,
+    /// `walls` or `open`.
+    pub fn from_name(name: &str) -> Option<Edges> {
+        [Edges::Periodic, Edges::Walls, Edges::Open]
+            .into_iter()
+            .find(|e| e.name() == name)
+    }
+
     /// The name `bounce analyze --boundary` takes.
     pub fn name(self) -> &'static str {
         match self {
