@@ -8,7 +8,7 @@
 //! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
 //! | `obstacle.rs` | `Obstacle` (segments, pegs; fixed or moving), `polyline`, `rectangle` |
 //! | `sources.rs` | `Emitter` and `Sink`: discs added and removed during a run |
-//! | `structure.rs` | `rdf`, `psi6`, `msd`: a GSD trajectory's structure, as `bounce analyze` |
+//! | `structure.rs` | `rdf`, `psi6`, `msd`: a GSD trajectory's structure, as `bounce analyze`; `speed_histogram` |
 
 use pyo3::prelude::*;
 
@@ -38,6 +38,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(structure::rdf, m)?)?;
     m.add_function(wrap_pyfunction!(structure::psi6, m)?)?;
     m.add_function(wrap_pyfunction!(structure::msd, m)?)?;
+    m.add_function(wrap_pyfunction!(structure::speed_histogram, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

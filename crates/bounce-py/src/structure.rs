@@ -1,14 +1,16 @@
 //! `rdf`, `psi6` and `msd`: the structure of a GSD trajectory's frames (or, for `rdf` and
 //! `psi6`, of a world as it is now), as `bounce analyze` computes it
-//! (`bounce_scenario::structure`), as NumPy arrays.
+//! (`bounce_scenario::structure`), as NumPy arrays; and `speed_histogram`, a world's speeds
+//! against Maxwell–Boltzmann as the viewer draws them.
 
 use std::path::{Path, PathBuf};
 
 use bounce_scenario::structure::{self, Edges, Snapshot};
 use bounce_scenario::trajectory::Trajectory;
-use numpy::{IntoPyArray, PyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 type Curve<'py, X> = (Bound<'py, PyArray1<X>>, Bound<'py, PyArray1<f64>>);
 
@@ -109,4 +111,35 @@ pub fn msd<'py>(
         .detach(|| structure::msd(&frames))
         .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
     Ok((lags.into_pyarray(py), values.into_pyarray(py)))
+}
+
+/// The speeds of a :class:`World`'s discs in ``bins`` bins against the 2D Maxwell–Boltzmann
+/// distribution at their temperature, as the viewer's panel draws them
+/// (``bounce_scenario::analysis::speed_histogram``): a dict with ``width`` (bin ``k`` covers
+/// ``[k width, (k + 1) width)``), ``density`` (probability density a bin, integrating to 1),
+/// ``kt`` (the temperature in the centre-of-mass frame) and ``curve``, shape (201, 2):
+/// ``(speed, density)`` of the mix of the Rayleigh curves of the masses present.
+#[pyfunction]
+#[pyo3(signature = (world, bins=30))]
+pub fn speed_histogram<'py>(
+    py: Python<'py>,
+    world: &Bound<'py, crate::world::World>,
+    bins: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    if bins == 0 {
+        return Err(PyValueError::new_err("bins = 0: expected at least one bin"));
+    }
+    let h = {
+        let world = world.borrow();
+        let world = world.get();
+        let total_mass = bounce_scenario::analysis::total_mass(&world);
+        bounce_scenario::analysis::speed_histogram(&world, bins, total_mass)
+    };
+    let d = PyDict::new(py);
+    d.set_item("width", h.width)?;
+    d.set_item("density", h.density.into_pyarray(py))?;
+    d.set_item("kt", h.kt)?;
+    let curve: Vec<f64> = h.curve.iter().flatten().copied().collect();
+    d.set_item("curve", curve.into_pyarray(py).reshape([h.curve.len(), 2])?)?;
+    Ok(d)
 }

@@ -105,18 +105,28 @@ pub fn speed_histogram(world: &World, bins: usize, total_mass: f64) -> SpeedHist
     let density = counts.iter().map(|&c| c as f64 / (n * width)).collect();
     let kt = temperature(world, total_mass);
     let all = masses(world);
-    let sample: Vec<f64> = all
+    let mut sample: Vec<f64> = all
         .iter()
         .step_by((all.len() / 2000).max(1))
         .copied()
         .collect();
+    // The mix weighs each distinct mass by how often it is drawn: one curve a mass, not a
+    // disc, so a monodisperse gas costs one Rayleigh curve.
+    sample.sort_unstable_by(f64::total_cmp);
+    let mut kinds: Vec<(f64, f64)> = Vec::new();
+    for &m in &sample {
+        match kinds.last_mut() {
+            Some((last, count)) if *last == m => *count += 1.0,
+            _ => kinds.push((m, 1.0)),
+        }
+    }
     let curve = (0..=200)
         .map(|k| {
             let v = v_max * k as f64 / 200.0;
             let density = if kt > 0.0 && !sample.is_empty() {
-                sample
+                kinds
                     .iter()
-                    .map(|&m| maxwell_boltzmann_pdf(v, kt, m))
+                    .map(|&(m, count)| count * maxwell_boltzmann_pdf(v, kt, m))
                     .sum::<f64>()
                     / sample.len() as f64
             } else {
@@ -269,5 +279,27 @@ mod tests {
             .set_velocity(bounce::ParticleId(1), [-2.0, 0.0])
             .unwrap();
         assert!((temperature(&world, 2.0) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_curve_mixes_the_rayleigh_curves_of_the_masses_present() {
+        let mut world = World::new(Config::default()).unwrap();
+        // Masses 1, 1 and 2 (the seed's model: mass = radius), no drift.
+        for (x, v, r) in [(0.0, 1.0, 1.0), (5.0, -1.0, 1.0), (10.0, 0.0, 2.0)] {
+            world
+                .add_particle(Particle::new([x, 0.0], [0.0, v], r))
+                .unwrap();
+        }
+        let h = speed_histogram(&world, 10, 4.0);
+        // kT = (½·1 + ½·1 + 0) / 3.
+        assert!((h.kt - 1.0 / 3.0).abs() < 1e-15);
+        for &[v, density] in &h.curve {
+            let rayleigh = |m: f64| m * v / h.kt * (-m * v * v / (2.0 * h.kt)).exp();
+            let by_hand = (2.0 * rayleigh(1.0) + rayleigh(2.0)) / 3.0;
+            assert!(
+                (density - by_hand).abs() < 1e-14,
+                "{v}: {density} vs {by_hand}"
+            );
+        }
     }
 }

@@ -22,7 +22,8 @@ count the discs entering and leaving regions (``World.sensors``), and
 ``Config(contact_events=True)`` records what began and ended touching
 (``World.contact_events()``). ``rdf``, ``psi6`` and ``msd`` read a GSD trajectory's
 structure (g(r), the bond order |ψ6| per frame, the mean-square displacement), as
-``bounce analyze`` does.
+``bounce analyze`` does; ``speed_histogram`` is a world's speeds against Maxwell–Boltzmann.
+``bounce.widget.View(world)`` is a live view in a notebook (needs ``anywidget``).
 
 Classes: :class:`Config`, :class:`World`, :class:`Obstacle`, :class:`StorageView`,
 :class:`GSDWriter`.
@@ -44,6 +45,7 @@ from ._native import (
     psi6,
     rdf,
     rectangle,
+    speed_histogram,
 )
 
 __all__ = [
@@ -61,6 +63,7 @@ __all__ = [
     "rdf",
     "psi6",
     "msd",
+    "speed_histogram",
     "sweep",
     "__version__",
 ]

@@ -1,7 +1,7 @@
 """Type stubs for bounce (the compiled module ``bounce._native``)."""
 
 from os import PathLike
-from typing import Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -388,6 +388,10 @@ def msd(
     boundary: Optional[Literal["periodic", "walls", "open"]] = None,
 ) -> Tuple[npt.NDArray[np.uint64], npt.NDArray[np.float64]]:
     """The mean-square displacement over every origin: ``(lags in steps, msd)``."""
+    ...
+
+def speed_histogram(world: World, bins: int = 30) -> Dict[str, Any]:
+    """The speeds against 2D Maxwell–Boltzmann: ``width``, ``density``, ``kt``, ``curve``."""
     ...
 
 def sweep(

@@ -1,0 +1,76 @@
+"""Runs bounce's notebook view (``widget.js``) in headless Chromium: writes a View's frames
+where ``harness.html`` reads them, serves the folder on 127.0.0.1 and drives the page with
+``web/widget-e2e.mjs`` (playwright-core, installed in web/ by scripts/test). Used by
+``test_widget.py`` and by ``bench.py`` (the frame rate in BENCHMARKS.md)."""
+
+import contextlib
+import functools
+import http.server
+import json
+import pathlib
+import shutil
+import subprocess
+import threading
+
+import bounce.widget
+
+ROOT = pathlib.Path(__file__).resolve().parents[4]
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def save_frame(view, folder, k):
+    """Writes the view's synced state as frame ``k``: the JSON traits and one .bin a buffer."""
+    data = pathlib.Path(folder) / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    state = {
+        name: getattr(view, name)
+        for name in ("bounds", "obstacles", "frame", "width", "histogram", "renderer", "playing")
+    }
+    (data / f"frame{k}.json").write_text(json.dumps(state))
+    for name in ("positions", "radii", "shades"):
+        (data / f"frame{k}.{name}.bin").write_bytes(getattr(view, name))
+
+
+def prepare(folder):
+    """Copies the installed package's widget.js (what a notebook loads) and the harness page."""
+    folder = pathlib.Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    shutil.copy(pathlib.Path(bounce.widget.__file__).with_name("widget.js"), folder / "widget.js")
+    shutil.copy(HERE / "harness.html", folder / "harness.html")
+
+
+@contextlib.contextmanager
+def serve(folder):
+    """A static server for ``folder`` on a free port; yields its URL."""
+    handler = functools.partial(_Quiet, directory=str(folder))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+class _Quiet(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, *args):
+        pass
+
+
+def drive(url, screenshot, mode, renderer="auto"):
+    """Runs web/widget-e2e.mjs and returns its JSON report."""
+    script = ROOT / "web" / "widget-e2e.mjs"
+    if not (ROOT / "web" / "node_modules" / "playwright-core").exists():
+        raise RuntimeError("web/node_modules lacks playwright-core: scripts/test installs it")
+    if shutil.which("node") is None or not pathlib.Path("/usr/bin/chromium").exists():
+        raise RuntimeError("node and /usr/bin/chromium are needed: scripts/test installs them")
+    done = subprocess.run(
+        ["node", str(script), url, str(screenshot), mode, renderer],
+        cwd=ROOT / "web",
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])
