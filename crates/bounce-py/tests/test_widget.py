@@ -246,3 +246,23 @@ def test_the_example_notebook_runs(tmp_path):
     assert "step 1500 frames sent 301" in text
     assert "step 600 discs 500" in text
     json.dumps(notebook)  # the executed notebook is plain JSON
+
+
+def test_the_view_plays_in_jupyterlab(tmp_path):
+    # A real JupyterLab (its anywidget front end, its comm over the websocket, a real kernel):
+    # the module loads, play steps the kernel's world frame after frame, pause stops it, step
+    # advances one frame.
+    harness.notebook(
+        tmp_path / "gas.ipynb",
+        "import bounce\nfrom bounce.widget import View\n"
+        f"world = bounce.World.from_scenario({str(ROOT / 'scenarios' / 'gas.toml')!r})\n"
+        "view = View(world, every=1)",
+    )
+    with harness.jupyterlab(tmp_path) as url:
+        report = harness.drive_jupyterlab(url, "gas.ipynb", tmp_path / "lab.png", seconds=3)
+    assert report["errors"] == [] and "error" not in report, report
+    assert report["first"].startswith("step 0 · t = 0.0000 · 2000 discs")
+    assert report["frames_per_second"] > 1 and report["draws_per_second"] > 1
+    paused, later = report["paused"]
+    assert paused == later
+    assert report["stepped"].startswith(f"step {paused + 1} ")

@@ -8,8 +8,8 @@
 // `shades` (u8 a disc: 0–255 along the colour ramp, speed or radius as `colour_by` chose),
 // `bounds` [xmin, ymin, xmax, ymax], `obstacles` (segments and pegs), `frame` (step, time,
 // discs, histogram). Controls go back as the synced `playing` and custom messages
-// `{type: "step"}` and `{type: "tick"}`: while playing, every drawn frame asks Python for the
-// next one, so frames never queue faster than the page draws them.
+// `{type: "step"}` and `{type: "tick"}`: while playing, the page keeps two frames asked for
+// ahead, each arrival asking for one more, so frames never queue faster than they arrive.
 
 // The stops of `bounce_scenario::colour::ramp` (dark blue, teal, green, yellow): the same
 // colours as the desktop viewer, PNG frames and the web page.
@@ -315,7 +315,16 @@ function render({ model, el }) {
   const stats = { draws: 0, renderer: "", drawTimes: [], canvas: () => stack.firstChild };
   el.bounce = stats;
   let pending = false;
-  let shown = -1;
+  // While playing, this many frames are asked for ahead: Python steps the next one while the
+  // page draws this one and the messages travel, yet at most WINDOW frames are ever queued.
+  const WINDOW = 2;
+  let asked = 0;
+  const ask = () => {
+    while (model.get("playing") && asked < WINDOW) {
+      asked += 1;
+      model.send({ type: "tick" });
+    }
+  };
 
   const size = () => {
     const bounds = model.get("bounds");
@@ -376,11 +385,6 @@ function render({ model, el }) {
     status.textContent =
       `step ${frame.step ?? 0} · t = ${Number(frame.time ?? 0).toPrecision(5)} · ` +
       `${n} discs · ${active.kind}`;
-    // Ask for the next frame only once this one is on screen, so frames never pile up.
-    if (playing && frame.step !== shown) {
-      shown = frame.step;
-      model.send({ type: "tick", step: frame.step ?? 0 });
-    }
   };
   const later = () => {
     if (!pending) {
@@ -392,18 +396,24 @@ function render({ model, el }) {
   play.addEventListener("click", () => {
     model.set("playing", !model.get("playing"));
     model.save_changes();
-    shown = -1;
+    asked = 0;
+    ask();
     later();
   });
   step.addEventListener("click", () => model.send({ type: "step" }));
-  for (const name of ["frame", "bounds", "obstacles", "width", "renderer", "histogram", "playing"]) {
-    model.on(`change:${name}`, later);
-  }
+  const arrived = () => {
+    asked = Math.max(asked - 1, 0);
+    ask();
+  };
+  const names = ["frame", "bounds", "obstacles", "width", "renderer", "histogram", "playing"];
+  for (const name of names) model.on(`change:${name}`, later);
+  model.on("change:frame", arrived);
+  model.on("change:playing", ask);
   later();
   return () => {
-    for (const name of ["frame", "bounds", "obstacles", "width", "renderer", "histogram", "playing"]) {
-      model.off(`change:${name}`, later);
-    }
+    for (const name of names) model.off(`change:${name}`, later);
+    model.off("change:frame", arrived);
+    model.off("change:playing", ask);
   };
 }
 
