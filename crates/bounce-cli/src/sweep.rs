@@ -481,6 +481,8 @@ fn write_slurm(request: &Request, jobs: usize) -> Result<()> {
          name = \"run\"\n\
          command = \"{exe} sweep {sweep} --out {out} --job {{directory}}\"\n\
          products = [\"bounce_done\"]\n\
+         # One directory a submission: the command runs one job ({{directory}}).\n\
+         group.maximum_size = 1\n\
          resources.processes.per_directory = 1\n\
          resources.walltime.per_directory = \"01:00:00\"\n",
         exe = exe.display(),

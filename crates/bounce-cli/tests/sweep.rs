@@ -184,6 +184,7 @@ fn a_task_id_runs_its_job_alone_and_a_slurm_array_covers_every_job() {
             .ends_with("--job {directory}")
     );
     assert_eq!(action["products"][0].as_str(), Some("bounce_done"));
+    assert_eq!(action["group"]["maximum_size"].as_integer(), Some(1));
     // What row runs: `--job <directory>` runs that job alone.
     let last = jobs(&out).pop().unwrap();
     let id = last.file_name().unwrap().to_str().unwrap().to_string();
@@ -259,4 +260,46 @@ fn bad_sweeps_are_named() {
         stderr.contains("job 0") && stderr.contains("failed"),
         "{stderr}"
     );
+}
+
+/// glotzerlab's row itself (installed by scripts/test as `BOUNCE_ROW`) submits the sweep's
+/// workflow.toml: on a machine without a scheduler it runs each job at once, one directory a
+/// submission, and afterwards has nothing left to submit.
+#[cfg(feature = "system-tests")]
+#[test]
+fn row_runs_the_workflow_to_the_end() {
+    let row = std::env::var("BOUNCE_ROW").unwrap_or_else(|_| "row".into());
+    let s = Scratch::new();
+    let file = sweep_file(&s);
+    let out = s.path("ws");
+    let (code, _, stderr) = sweep(&file, &out, &["--slurm"]);
+    assert_eq!(code, 0, "{stderr}");
+    let run = |args: &[&str]| {
+        let done = std::process::Command::new(&row)
+            .args(args)
+            .current_dir(&out)
+            .output()
+            .unwrap_or_else(|e| panic!("{row}: {e} (scripts/test installs row)"));
+        let text = String::from_utf8_lossy(&done.stdout).to_string()
+            + &String::from_utf8_lossy(&done.stderr);
+        assert!(done.status.success(), "row {args:?}: {text}");
+        text
+    };
+    let before = run(&["show", "status"]);
+    assert!(
+        before.contains("run            0         0        4"),
+        "{before}"
+    );
+    let submitted = run(&["submit", "--yes"]);
+    assert_eq!(submitted.matches(") done").count(), 4, "{submitted}");
+    assert!(jobs(&out).iter().all(|d| d.join("bounce_done").exists()));
+    let after = run(&["show", "status"]);
+    assert!(
+        after.contains("run            4         0        0"),
+        "{after}"
+    );
+    // What row left is a finished sweep: the command line runs nothing more.
+    let (code, stdout, stderr) = sweep(&file, &out, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("4 job(s) already done"), "{stdout}");
 }
