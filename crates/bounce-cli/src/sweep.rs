@@ -401,10 +401,35 @@ fn start(sweep: &Sweep, k: usize, workspace: &Path, threads: usize) -> Result<Ch
     } else {
         command.arg("--force");
     }
+    stop_with_parent(&mut command);
     command
         .spawn()
         .with_context(|| format!("cannot start job {k}"))
 }
+
+/// A job's run stops (as at Ctrl-C: the step finished, every output and the checkpoint
+/// written) when the sweep that started it dies, even by SIGKILL or a scheduler's cancel,
+/// rather than running on unseen beside the rerun that resumes it.
+#[cfg(target_os = "linux")]
+fn stop_with_parent(command: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: between fork and exec the closure only calls async-signal-safe functions
+    // (prctl, getppid, raise) and allocates nothing.
+    let parent = std::process::id() as libc::pid_t;
+    unsafe {
+        command.pre_exec(move || {
+            libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM);
+            // The sweep may have died before prctl: then stop now.
+            if libc::getppid() != parent {
+                libc::raise(libc::SIGTERM);
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn stop_with_parent(_: &mut Command) {}
 
 /// `summary.csv`: per finished job, its id, its settings and its last `stats.csv` row.
 fn write_summary(sweep: &Sweep, workspace: &Path, path: &Path) -> Result<()> {

@@ -303,3 +303,74 @@ fn row_runs_the_workflow_to_the_end() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("4 job(s) already done"), "{stdout}");
 }
+
+/// A sweep killed outright (SIGKILL, as a scheduler's cancel can) takes its running job down
+/// with it, checkpointed; the rerun resumes that job and ends with the bytes of a run never
+/// stopped.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_killed_sweep_stops_its_job_and_the_rerun_resumes_it() {
+    use std::time::{Duration, Instant};
+    let s = Scratch::new();
+    let file = sweep_file(&s);
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("steps = 60", "steps = 30000")
+        .replace("\"gas.1.count\" = [300, 600]", "\"gas.1.count\" = [2000]");
+    std::fs::write(&file, text).unwrap();
+    let whole = s.path("whole");
+    assert_eq!(sweep(&file, &whole, &["--task-id", "0"]).0, 0);
+    let job = jobs(&whole)
+        .into_iter()
+        .find(|d| d.join("bounce_done").exists())
+        .unwrap();
+    let id = job.file_name().unwrap().to_owned();
+    let cut = s.path("cut");
+    let mut killed = bounce()
+        .arg("sweep")
+        .arg(&file)
+        .arg("--out")
+        .arg(&cut)
+        .args(["--jobs", "1"])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let dir = cut.join("workspace").join(&id);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    // Running: its outputs are being written (as temporaries, renamed when whole).
+    let writing = || {
+        std::fs::read_dir(&dir).is_ok_and(|entries| {
+            entries
+                .flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(".bounce-tmp-"))
+        })
+    };
+    while !writing() {
+        assert!(Instant::now() < deadline, "job 0 did not start");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    killed.kill().unwrap(); // SIGKILL: the sweep cannot pass anything on
+    killed.wait().unwrap();
+    // The job's run got SIGTERM from the kernel as its parent died, and checkpointed.
+    while !dir.join("checkpoint.bin").exists() {
+        assert!(Instant::now() < deadline, "the orphaned job did not stop");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(!dir.join("bounce_done").exists());
+    let rows = |d: &Path| {
+        std::fs::read_to_string(d.join("stats.csv"))
+            .unwrap()
+            .lines()
+            .count()
+    };
+    assert!(rows(&dir) < rows(&job), "the kill came after the job's end");
+    let (code, stdout, stderr) = sweep(&file, &cut, &["--jobs", "1"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("resumes from its checkpoint"), "{stdout}");
+    assert_eq!(stdout.matches(") done").count(), 2, "{stdout}");
+    assert_eq!(
+        std::fs::read(dir.join("stats.csv")).unwrap(),
+        std::fs::read(job.join("stats.csv")).unwrap()
+    );
+}
