@@ -413,9 +413,9 @@ fn start(sweep: &Sweep, k: usize, workspace: &Path, threads: usize) -> Result<Ch
 #[cfg(target_os = "linux")]
 fn stop_with_parent(command: &mut Command) {
     use std::os::unix::process::CommandExt;
+    let parent = std::process::id() as libc::pid_t;
     // SAFETY: between fork and exec the closure only calls async-signal-safe functions
     // (prctl, getppid, raise) and allocates nothing.
-    let parent = std::process::id() as libc::pid_t;
     unsafe {
         command.pre_exec(move || {
             libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM);
