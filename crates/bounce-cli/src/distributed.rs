@@ -46,8 +46,8 @@
 //! the gathered world carries into `events.csv` and the checkpoints: the same bytes as one
 //! process.
 //!
-//! Not yet across ranks: obstacles, emitters, sinks, sensors, thermostats and the pressure
-//! tensor, and the event-driven method (refused with a message). Rough discs
+//! Not yet across ranks: obstacles, emitters, sinks, sensors, thermostats, the pressure
+//! tensor and collision counts, and the event-driven method (refused with a message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
 
@@ -181,6 +181,7 @@ fn check_supported(session: &Session) -> Result<()> {
         (!config.sensors.is_empty(), "[[sensor]]"),
         (config.thermostat.is_some(), "world.thermostat"),
         (config.pressure_tensor, "output.pressure_tensor"),
+        (config.collision_counts, "output.collision_counts"),
     ];
     for (present, what) in refused {
         if present {

@@ -51,12 +51,16 @@ pub enum Outcome {
 }
 
 /// The files of a run in its folder: what `--force` clears.
-const RUN_FILES: [&str; 5] = [
+const RUN_FILES: [&str; 9] = [
     "stats.csv",
     "animation.gif",
     "trajectory.gsd",
     "plots.png",
     "checkpoint.bin",
+    "events.csv",
+    "profile.csv",
+    "msd.csv",
+    "collisions.csv",
 ];
 
 /// Runs the scenario. A signal number stored in `stop` finishes the current step, writes
@@ -663,6 +667,9 @@ impl Outputs {
     /// Writes the checkpoint of `world` with `totals` and completes the files.
     fn finish_at(self, world: &World, totals: RunState) -> Result<()> {
         checkpoint::save(world, Some(&totals), &self.dir.join("checkpoint.bin"))?;
+        if let Some(counts) = world.collision_counts() {
+            write_collisions(world, &counts, &self.dir.join("collisions.csv"))?;
+        }
         self.stats.finish()?;
         if let Some(events) = self.events {
             events.finish()?;
@@ -697,6 +704,22 @@ impl Outputs {
         }
         Ok(())
     }
+}
+
+/// `collisions.csv`: each disc present at the end, in id order, with its radius and its
+/// collisions with other discs over the whole run.
+fn write_collisions(world: &World, counts: &[u64], path: &Path) -> Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::from("id,radius,collisions\n");
+    for (id, index) in world.in_id_order() {
+        let radius = world.particles().radius()[index];
+        let _ = writeln!(text, "{},{radius},{}", id.0, counts[id.0 as usize]);
+    }
+    let mut file = bounce_scenario::atomic::AtomicFile::create(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    std::io::Write::write_all(&mut file, text.as_bytes())?;
+    file.commit()
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The first named moving segment of the scenario and how it faces the gas (towards the

@@ -210,13 +210,6 @@ impl ScenarioColumns {
     }
 }
 
-/// The discs' kinetic, rotational and potential energy, summed in id order (what
-/// `dissipated` balances).
-pub fn total_energy(world: &World) -> f64 {
-    let (kinetic, _) = bounce_scenario::analysis::motion_sums(world);
-    kinetic + world.rotational_energy() + bounce_scenario::analysis::potential_energy(world)
-}
-
 /// Running totals since the previous row.
 #[derive(Clone, Debug, Default)]
 pub struct Totals {
@@ -370,7 +363,9 @@ impl StatsCsv {
 
     /// The discs' energy `dissipated` is measured from, when it is written.
     pub fn row_energy(&self, world: &World) -> Option<f64> {
-        self.obstacles.dissipation.then(|| total_energy(world))
+        self.obstacles
+            .dissipation
+            .then(|| bounce_scenario::analysis::total_energy(world))
     }
 
     /// Flushes and renames the file into place.

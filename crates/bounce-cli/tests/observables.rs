@@ -148,7 +148,7 @@ fn the_observables_are_the_same_bytes_on_threads_and_after_a_resume() {
     let s = Scratch::new();
     let text = scenario(
         "boundary = \"periodic\"\ncoefficient_of_restitution = 0.9\nrestitution_model = \"relative_normal_velocity\"\nthermostat = { kind = \"andersen\", temperature = 1.0, rate = 0.2 }",
-        "stats_every = 10\nprofile = { axis = \"x\", bins = 8 }\nmsd = true",
+        "stats_every = 10\nprofile = { axis = \"x\", bins = 8 }\nmsd = true\ncollision_counts = true",
     )
     .replace("method = \"event_driven\"\ndt = 0.1", "dt = 0.01");
     run(&s, &text, "one", &["--steps", "300", "--threads", "1"]);
@@ -161,7 +161,7 @@ fn the_observables_are_the_same_bytes_on_threads_and_after_a_resume() {
         "resumed",
         &["--steps", "300", "--resume", checkpoint.to_str().unwrap()],
     );
-    for file in ["profile.csv", "msd.csv"] {
+    for file in ["profile.csv", "msd.csv", "collisions.csv"] {
         let one = std::fs::read(s.path("one").join(file)).unwrap();
         assert!(
             one == std::fs::read(s.path("two").join(file)).unwrap(),
@@ -332,4 +332,38 @@ fn the_dissipated_energy_balances_the_work_put_in_and_matches_the_collisional_lo
         stderr.contains("output.dissipation: not with [[emitter]] or [[sink]]"),
         "{stderr}"
     );
+}
+
+#[test]
+fn collision_counts_add_up_to_twice_the_collisions_in_the_csv_and_the_gsd() {
+    let s = Scratch::new();
+    let text = scenario(
+        "boundary = \"periodic\"",
+        "stats_every = 10\ngsd_every = 100\ncollision_counts = true",
+    )
+    .replace("radius = 0.05", "radius = 0.4");
+    run(&s, &text, "counts", &["--steps", "500"]);
+    let (header, rows) = table(&s.path("counts/stats.csv"));
+    let column = header.iter().position(|h| h == "collisions").unwrap();
+    // Rows after the first count the collisions since the row before.
+    let collisions: f64 = rows[1..].iter().map(|r| r[column]).sum();
+    let (header, discs) = table(&s.path("counts/collisions.csv"));
+    assert_eq!(header, ["id", "radius", "collisions"]);
+    assert_eq!(discs.len(), 1000);
+    let counted: f64 = discs.iter().map(|r| r[2]).sum();
+    assert!(collisions > 1000.0, "{collisions}");
+    assert_eq!(counted, 2.0 * collisions);
+    // The GSD's last frame holds the same counts, in id order.
+    let chunks = common::gsd_chunks(&s.path("counts/trajectory.gsd"));
+    let last = chunks
+        .iter()
+        .rfind(|c| c.name == "log/particles/bounce/collisions")
+        .unwrap();
+    assert_eq!(last.frame, 5);
+    let in_gsd: Vec<f64> = last
+        .data
+        .chunks(8)
+        .map(|b| u64::from_le_bytes(b.try_into().unwrap()) as f64)
+        .collect();
+    assert_eq!(in_gsd, discs.iter().map(|r| r[2]).collect::<Vec<_>>());
 }

@@ -46,7 +46,9 @@ use serde::de::IntoDeserializer;
 /// "white_noise", "temperature": T, "rate": r, "seed": s}``: a heat bath or random drive at
 /// the end of every step; the energy it added is ``World.stats["thermostat_work"]``) and
 /// ``pressure_tensor`` (``True``: each step measures the virial tensor,
-/// ``World.pressure_tensor``; default ``False``).
+/// ``World.pressure_tensor``; default ``False``) and ``collision_counts`` (``True``: each
+/// disc's collisions with other discs are counted, ``World.collision_counts``; default
+/// ``False``).
 ///
 /// Raises ``ValueError`` naming the field and the value when one is out of range, and
 /// ``TypeError`` for an unknown keyword or a value of the wrong type.
@@ -268,6 +270,9 @@ impl Config {
                     }
                     "thermostat" => c.thermostat = thermostat(v)?,
                     "pressure_tensor" => c.pressure_tensor = typed(&key, v, "True or False")?,
+                    "collision_counts" => {
+                        c.collision_counts = typed(&key, v, "True or False")?;
+                    }
                     _ => {
                         return Err(PyTypeError::new_err(format!(
                             "Config() got an unexpected keyword argument '{key}'"
@@ -441,6 +446,12 @@ impl Config {
         self.inner.pressure_tensor
     }
 
+    /// Whether each disc's collisions are counted (``World.collision_counts``).
+    #[getter]
+    fn collision_counts(&self) -> bool {
+        self.inner.collision_counts
+    }
+
     /// The thermostat as a dict (``kind``, ``temperature``, ``rate``, ``seed``), or ``None``.
     #[getter]
     fn thermostat<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
@@ -553,6 +564,9 @@ impl Config {
         }
         if c.pressure_tensor {
             parts.push("pressure_tensor=True".into());
+        }
+        if c.collision_counts {
+            parts.push("collision_counts=True".into());
         }
         if let Some(t) = c.thermostat {
             parts.push(format!(

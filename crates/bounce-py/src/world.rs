@@ -406,6 +406,22 @@ impl World {
         self.get().obstacle_work()
     }
 
+    /// The kinetic energy the thermostat has added since the start (0 without one).
+    #[getter]
+    fn thermostat_work(&self) -> f64 {
+        self.get().thermostat_work()
+    }
+
+    /// The discs' energy now: kinetic, rotational and potential (in gravity), each summed
+    /// in id order. The energy dissipated over an interval (by inelastic collisions and
+    /// friction) is ``energy`` before, less ``energy`` after, plus the growth of
+    /// ``thermostat_work`` and ``obstacle_work`` over it: what ``stats.csv``'s
+    /// ``dissipated`` column reports between rows.
+    #[getter]
+    fn energy(&self) -> f64 {
+        bounce_scenario::analysis::total_energy(&self.get())
+    }
+
     /// Advances ``n`` steps of ``dt`` (default: the world's ``dt``), without the GIL: other
     /// Python threads run meanwhile. Ctrl-C raises ``KeyboardInterrupt`` between steps,
     /// the world left after a whole step. Attached GSD writers get their frames.
@@ -736,6 +752,20 @@ impl World {
     fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
         let order = self.get().in_id_order();
         Array1::from_iter(order.into_iter().map(|(id, _)| id.0)).into_pyarray(py)
+    }
+
+    /// Each disc's collisions with other discs so far (``uint64``, id order, as ``ids``),
+    /// with ``Config(collision_counts=True)``; ``None`` otherwise. An impact counts once for
+    /// each of its two discs (as ``stats["collisions"]`` counts impacts).
+    #[getter]
+    fn collision_counts<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<u64>>> {
+        let world = self.get();
+        let counts = world.collision_counts()?;
+        let order = world.in_id_order();
+        Some(
+            Array1::from_iter(order.into_iter().map(|(id, _)| counts[id.0 as usize]))
+                .into_pyarray(py),
+        )
     }
 
     /// Each disc's tag (``uint64``, id order): the user's own number, carried through every

@@ -167,3 +167,42 @@ def test_the_pressure_tensor_from_python_has_the_pressure_as_its_trace():
     assert (xx + yy) / 2 == pytest.approx(world.stats["pressure"], rel=1e-12)
     assert len(world.stats["virial_tensor"]) == 3
     assert bounce.World(bounce.Config(boundary="periodic", min=(0, 0), max=(9, 9)), dt=0.1).pressure_tensor is None
+
+
+def test_each_disc_counts_its_collisions_and_the_counts_add_up():
+    config = bounce.Config(boundary="periodic", min=(0, 0), max=(40, 40), collision_counts=True)
+    assert config.collision_counts and "collision_counts=True" in repr(config)
+    world = bounce.World(config, dt=0.01)
+    rng = np.random.default_rng(6)
+    grid = np.stack(np.meshgrid(np.arange(20) * 2 + 1.0, np.arange(20) * 2 + 1.0), -1)
+    world.add_discs(grid.reshape(-1, 2), rng.normal(size=(400, 2)), radii=0.6)
+    collisions = 0
+    for _ in range(100):
+        world.step(1)
+        collisions += world.stats["collisions"]
+    counts = world.collision_counts
+    assert counts.dtype == np.uint64 and counts.shape == (400,)
+    assert collisions > 100 and counts.sum() == 2 * collisions
+    # Without the switch there is nothing to read.
+    off = bounce.World(bounce.Config(boundary="periodic", min=(0, 0), max=(9, 9)), dt=0.1)
+    assert off.collision_counts is None
+
+
+def test_the_energy_balance_from_python_is_stats_csvs_dissipated(tmp_path, bounce_bin, root):
+    scenario = root / "scenarios" / "driven-granular.toml"
+    run_cli(
+        bounce_bin, "run", scenario, "--out", tmp_path / "dg", "--steps", "200", "-q",
+        "--set", "output.dissipation=true", "--set", "output.stats_every=20",
+    )
+    lines = (tmp_path / "dg" / "stats.csv").read_text().splitlines()
+    column = lines[0].split(",").index("dissipated")
+    expected = [float(line.split(",")[column]) for line in lines[2:]]
+    world = bounce.World.from_scenario(scenario)
+    dissipated = []
+    for _ in range(10):
+        energy, heat = world.energy, world.thermostat_work + world.obstacle_work
+        world.step(20)
+        dissipated.append(energy - world.energy + world.thermostat_work + world.obstacle_work - heat)
+    # The inelastic gas loses energy; the kicks' work is what the balance adds back.
+    assert world.thermostat_work > 0 and min(dissipated) > 0
+    assert dissipated == pytest.approx(expected, rel=1e-9)

@@ -26,6 +26,13 @@ pub fn total_mass(world: &World) -> f64 {
     by_id.iter().map(|&(_, m)| m).sum()
 }
 
+/// The discs' energy: kinetic, rotational and potential, each summed in id order. What
+/// `stats.csv`'s `dissipated` balances (with the thermostat's and the obstacles' work).
+pub fn total_energy(world: &World) -> f64 {
+    let (kinetic, _) = motion_sums(world);
+    kinetic + world.rotational_energy() + potential_energy(world)
+}
+
 /// The potential energy in the uniform gravity field, `−Σ m g·x` (zero at the origin), with
 /// the world's mass model, summed in id order. Zero without gravity.
 pub fn potential_energy(world: &World) -> f64 {

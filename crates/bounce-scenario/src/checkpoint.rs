@@ -26,8 +26,9 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// version 8 contact events (the configuration's switch and threshold, the world's last
 /// substep's contacts) and sensors (their regions, the discs each holds, their counts);
 /// version 9 the configuration's thermostat and pressure-tensor switch, the step's
-/// thermostat work and virial tensor, the run's thermostat work and its origin for `msd.csv`.
-const VERSION: u32 = 9;
+/// thermostat work and virial tensor, the run's thermostat work and its origin for `msd.csv`;
+/// version 10 the configuration's collision-count switch and each disc's collisions.
+const VERSION: u32 = 10;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -270,6 +271,7 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
         sinks,
         sensors,
         pressure_tensor,
+        collision_counts,
         thermostat,
     } = a;
     let mut out = Vec::new();
@@ -340,6 +342,11 @@ pub fn config_differences(a: &Config, b: &Config) -> Vec<String> {
     differ("sensors", f(sensors), f(&b.sensors));
     differ("thermostat", f(thermostat), f(&b.thermostat));
     differ("pressure_tensor", f(pressure_tensor), f(&b.pressure_tensor));
+    differ(
+        "collision_counts",
+        f(collision_counts),
+        f(&b.collision_counts),
+    );
     if obstacles != &b.obstacles {
         differ(
             "obstacles",
@@ -430,8 +437,8 @@ pub(crate) mod tests {
                 .contains("truncated or appended")
         );
         let mut other = bytes.clone();
-        other[18] = 10;
-        assert!(decode(&other, "c").unwrap_err().contains("version 10"));
+        other[18] = 11;
+        assert!(decode(&other, "c").unwrap_err().contains("version 11"));
     }
 
     /// Three discs of distinct radii, masses and velocities after two steps: every value

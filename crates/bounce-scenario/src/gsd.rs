@@ -10,7 +10,9 @@
 //! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
 //! order, and `log/kinetic_energy`; in frame 0, `log/bounce/boundary` (a `uint8`: 0 an open
 //! world, 1 walls, 2 a periodic box: how `bounce analyze` reads the box); where any disc has
-//! a tag (`Particle::tag`), `log/particles/tag` (`uint64`, id order). Where discs turn (rough or spinning), also
+//! a tag (`Particle::tag`), `log/particles/tag` (`uint64`, id order); with collision counts
+//! (`bounce::Config::collision_counts`), `log/particles/bounce/collisions` (`uint64`, id
+//! order: each disc's collisions so far). Where discs turn (rough or spinning), also
 //! `particles/{moment_inertia,orientation,angmom}` as HOOMD-blue writes rotation about z:
 //! the moment of inertia `(0, 0, I)`, the orientation quaternion `(cos θ/2, 0, 0, sin θ/2)`
 //! and the angular momentum's conjugate quaternion `2 q ⊗ (0, 0, 0, I ω)`
@@ -375,6 +377,13 @@ impl GsdWriter {
                 .collect();
             self.chunk("log/particles/tag", Type::U64, n as u64, 1, &tags)?;
         }
+        if let Some(counts) = world.collision_counts() {
+            let counts: Vec<u8> = by_id
+                .iter()
+                .flat_map(|(id, _)| counts[id.0 as usize].to_le_bytes())
+                .collect();
+            self.chunk(COLLISIONS_CHUNK, Type::U64, n as u64, 1, &counts)?;
+        }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
         if self.frame == 0 {
@@ -486,6 +495,9 @@ impl GsdWriter {
 /// Centre and size of the box HOOMD should see: the walls or periodic box; for an open
 /// world, centred on the origin (fixed, so positions are absolute) and just holding every
 /// disc.
+/// Each disc's collisions so far (`bounce::World::collision_counts`), `uint64`, id order.
+pub const COLLISIONS_CHUNK: &str = "log/particles/bounce/collisions";
+
 fn box_of(world: &World) -> ([f64; 2], [f64; 2]) {
     match world.config().boundary {
         Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => (

@@ -562,6 +562,10 @@ pub struct OutputSpec {
     /// The pressure tensor in `stats.csv` (`pressure_xx`, `pressure_yy`, `pressure_xy`);
     /// default false.
     pub pressure_tensor: bool,
+    /// Count each disc's collisions with other discs: `collisions.csv` at the run's end
+    /// (`id,radius,collisions`) and `log/particles/bounce/collisions` in each GSD frame;
+    /// default false.
+    pub collision_counts: bool,
     /// The energy dissipated since the previous row in `stats.csv` (`dissipated`); default
     /// false. Not with emitters or sinks, whose discs bring and take energy.
     pub dissipation: bool,
@@ -594,6 +598,7 @@ impl Default for OutputSpec {
             profile: None,
             msd: false,
             pressure_tensor: false,
+            collision_counts: false,
             dissipation: false,
         }
     }
@@ -877,6 +882,7 @@ impl Scenario {
             contact_events: self.output.events,
             contact_event_threshold: self.output.events_threshold,
             pressure_tensor: self.output.pressure_tensor,
+            collision_counts: self.output.collision_counts,
             boundary: match w.boundary {
                 BoundaryKind::Walls => Boundary::Walls {
                     min,

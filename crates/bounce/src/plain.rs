@@ -28,7 +28,9 @@ use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
-use crate::law::{Disc, Law, Rough, collide, reflect, resting_speed, rub_walls, touch_walls};
+use crate::law::{
+    Disc, Law, Rough, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
+};
 use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
 use crate::resolve::resolve_in_order;
@@ -76,6 +78,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     };
     let mut sums = StepSums::default();
     let mut tensor: [ExactSum; 3] = Default::default();
+    let mut collided = Vec::new();
     let mut met = Met::new(config.obstacles.len());
     let mut finite = true;
     let has_obstacles = !config.obstacles.is_empty();
@@ -117,9 +120,13 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 &rules.law.for_pass(pass),
                 &rules.geometry,
                 (rules.resting_speed, None),
-                |_, pair| {
+                |p, pair| {
                     if config.pressure_tensor {
                         add_tensor(&mut tensor, pair);
+                    }
+                    let impact = is_impact(pair.out.approach, rules.resting_speed);
+                    if config.collision_counts && pass == 0 && impact {
+                        collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
                     }
                 },
             );
@@ -149,6 +156,7 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
         clock: Stopwatch::start(),
         finite,
         reordered: false,
+        collided,
     };
     world.finish_step(dt, done)?;
     Ok(&world.stats)

@@ -218,6 +218,8 @@ fn config(r: &Recipe) -> Config {
         )],
         // Measuring the virial tensor takes the contacts one at a time: the same bits.
         pressure_tensor: r.seed & 8 != 0,
+        // So does counting each disc's collisions.
+        collision_counts: r.seed & 16 != 0,
         // A thermostat of each kind, or none, by the seed's next bits.
         thermostat: [
             None,
@@ -295,6 +297,12 @@ fn same_bits(r: &Recipe, threads: usize, steps: usize) -> Result<(), TestCaseErr
             at
         );
         prop_assert_eq!(a.wall_impulse, b.wall_impulse, "walls, {}", at);
+        prop_assert_eq!(
+            fast.collision_counts(),
+            reference.collision_counts(),
+            "collision counts, {}",
+            at
+        );
         prop_assert_eq!(
             fast.obstacle_states(),
             reference.obstacle_states(),

@@ -140,6 +140,11 @@ pub struct Config {
     /// takes the contacts one at a time (the same bits, as with contact events), which is
     /// slower.
     pub pressure_tensor: bool,
+    /// Count each disc's collisions with other discs ([`crate::World::collision_counts`]):
+    /// impacts, as [`crate::StepStats::collisions`] counts them. Default `false`. When on,
+    /// the time-stepped solver takes the contacts one at a time (the same bits, as with
+    /// contact events), which is slower.
+    pub collision_counts: bool,
     /// A heat bath or a random drive acting at the end of every step (see [`Thermostat`]).
     /// Default `None`: the discs' energy changes only by collisions, walls and obstacles.
     pub thermostat: Option<Thermostat>,
@@ -176,6 +181,7 @@ impl Default for Config {
             sinks: Vec::new(),
             sensors: Vec::new(),
             pressure_tensor: false,
+            collision_counts: false,
             thermostat: None,
         }
     }

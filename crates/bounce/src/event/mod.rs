@@ -100,6 +100,9 @@ pub struct Observed {
     pub wall_impulse: [f64; 4],
     /// The momentum each obstacle took.
     pub obstacle_impulses: Vec<[f64; 2]>,
+    /// The two discs (the caller's numbers) of each collision in turn, with
+    /// [`Config::collision_counts`] (empty otherwise).
+    pub collided: Vec<u32>,
 }
 
 /// One disc's flight as the engine reads it in prediction: one cache line.
@@ -160,6 +163,8 @@ pub struct EventDriven {
     /// The law within `contact_duration` of a disc's last collision (the TC model).
     elastic: Law,
     contact_duration: f64,
+    /// Whether collisions are listed by disc ([`Observed::collided`]).
+    count_collisions: bool,
     gravity: [f64; 2],
     /// The box (`size` 0 in an open world).
     min: [f64; 2],
@@ -272,6 +277,7 @@ impl EventDriven {
             law,
             elastic,
             contact_duration: config.contact_duration,
+            count_collisions: config.collision_counts,
             gravity: config.gravity,
             min,
             size,

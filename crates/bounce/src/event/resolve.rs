@@ -118,6 +118,10 @@ impl EventDriven {
         tensor[1] += diff[1] * impulse[1];
         tensor[2] += 0.5 * (diff[0] * impulse[1] + diff[1] * impulse[0]);
         self.observed.collisions += 1;
+        if self.count_collisions {
+            let ids = [self.order[a], self.order[b]];
+            self.observed.collided.extend(ids);
+        }
         (self.d[a].v, self.d[b].v) = (out.v1, out.v2);
         for i in [a, b] {
             self.d[i].count = self.d[i].count.wrapping_add(1);

@@ -25,6 +25,38 @@ impl World {
         self.index_map().in_order()
     }
 
+    /// Each disc's collisions with other discs so far, with
+    /// [`crate::Config::collision_counts`] (`None` when it is off): the count of id `k` at
+    /// index `k`, one entry for every id given (removed discs keep theirs). A collision is an
+    /// impact, as [`crate::StepStats::collisions`] counts them, and counts once for each of
+    /// its two discs, so the counts add up to twice the collisions.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    ///
+    /// let config = Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 10.0]),
+    ///     collision_counts: true,
+    ///     ..Config::default()
+    /// };
+    /// let mut world = World::new(config).unwrap();
+    /// world.add_particle(Particle::new([5.0, 5.0], [1.0, 0.0], 1.0)).unwrap();
+    /// world.add_particle(Particle::new([9.0, 5.0], [-1.0, 0.0], 1.0)).unwrap();
+    /// world.add_particle(Particle::new([15.0, 5.0], [0.0, 0.0], 1.0)).unwrap();
+    /// for _ in 0..200 {
+    ///     world.step(0.01).unwrap();
+    /// }
+    /// // Discs 0 and 1 met head-on at t = 1 and parted; disc 2 was left alone.
+    /// assert_eq!(world.collision_counts().unwrap(), vec![1, 1, 0]);
+    /// ```
+    pub fn collision_counts(&self) -> Option<Vec<u64>> {
+        self.config.collision_counts.then(|| {
+            let mut counts = self.collision_counts.clone();
+            counts.resize(self.next_id as usize, 0);
+            counts
+        })
+    }
+
     /// Particle `id` as it is now.
     pub fn particle(&self, id: ParticleId) -> Option<Particle> {
         let mut p = self.particles.get(self.index_of(id)?)?;

@@ -49,6 +49,7 @@ impl World {
             }
         }
         done.stats.collisions = seen.collisions as usize;
+        done.collided = seen.collided.iter().map(|&k| p.id[k as usize].0).collect();
         done.sums.virial.add(seen.virial);
         if self.config.pressure_tensor {
             for (sum, term) in done.tensor.iter_mut().zip(seen.virial_tensor) {

@@ -34,6 +34,7 @@ mod sensors;
 
 mod state;
 mod step;
+mod work;
 
 pub use sensors::SensorCount;
 pub use state::SavedWorld;
@@ -77,6 +78,8 @@ pub struct World {
     obstacle_work: f64,
     /// The energy friction and rolling resistance have removed since the start.
     friction_work: f64,
+    /// The kinetic energy the thermostat has added since the start.
+    thermostat_work: f64,
     /// The obstacles binned for the step; `None` until the next step builds them.
     #[serde(skip)]
     pub(crate) obstacles: Option<Obstacles>,
@@ -103,6 +106,8 @@ pub struct World {
     /// Which emitter gave which ids: `[first id, count, emitter]`, ascending (runs of
     /// consecutive ids from one emitter are merged).
     emitted_ids: Vec<[u32; 3]>,
+    /// Each id's collisions with other discs so far, with [`Config::collision_counts`].
+    collision_counts: Vec<u64>,
     /// The discs the emitters added in the last step, with their emitter.
     #[serde(skip)]
     emitted_last_step: Vec<(ParticleId, u32)>,
@@ -229,6 +234,7 @@ impl World {
             obstacle_impulses: vec![[0.0; 2]; obstacle_count],
             obstacle_work: 0.0,
             friction_work: 0.0,
+            thermostat_work: 0.0,
             obstacles: None,
             trail: Trail::default(),
             obstacle_radius: 0.0,
@@ -237,6 +243,7 @@ impl World {
             contact_log: ContactLog::default(),
             sensors,
             emitted_ids: Vec::new(),
+            collision_counts: Vec::new(),
             emitted_last_step: Vec::new(),
             contacts: Contacts::default(),
             exec: Executor::default(),

@@ -44,11 +44,13 @@ pub(super) struct WorldState {
     pub(super) obstacle_impulses: Vec<[f64; 2]>,
     pub(super) obstacle_work: f64,
     pub(super) friction_work: f64,
+    pub(super) thermostat_work: f64,
     pub(super) emitter_states: Vec<EmitterState>,
     pub(super) removed: u32,
     pub(super) contact_log: ContactLog,
     pub(super) sensors: super::sensors::Sensors,
     pub(super) emitted_ids: Vec<[u32; 3]>,
+    pub(super) collision_counts: Vec<u64>,
 }
 
 pub(super) fn serialize_reference<S: serde::Serializer>(
@@ -197,6 +199,13 @@ impl TryFrom<WorldState> for World {
             )));
         }
         world.friction_work = state.friction_work;
+        if !state.thermostat_work.is_finite() {
+            return Err(WorldError::Inconsistent(format!(
+                "thermostat work {} is not finite",
+                state.thermostat_work
+            )));
+        }
+        world.thermostat_work = state.thermostat_work;
         if state.emitter_states.len() != world.config.emitters.len() {
             return Err(WorldError::Inconsistent(format!(
                 "{} emitters but {} emitter states",
@@ -233,6 +242,14 @@ impl TryFrom<WorldState> for World {
             end = run_end;
         }
         world.emitted_ids = state.emitted_ids;
+        if state.collision_counts.len() > state.next_id as usize {
+            return Err(WorldError::Inconsistent(format!(
+                "{} collision counts for {} ids",
+                state.collision_counts.len(),
+                state.next_id
+            )));
+        }
+        world.collision_counts = state.collision_counts;
         if let Some(problem) = state.contact_log.problem(state.next_id) {
             return Err(WorldError::Inconsistent(format!("contact_log: {problem}")));
         }

@@ -14,6 +14,7 @@ use crate::contact_events::ContactLog;
 use crate::contacts::Contacts;
 use crate::context::StepContext;
 use crate::integrate::{integrate, turn};
+use crate::law::is_impact;
 use crate::obstacles::{self, Met, Obstacles, Trail, resolve_obstacles, take_impacts};
 use crate::part::Travel;
 use crate::particles::Particles;
@@ -102,7 +103,15 @@ impl World {
             mut clock,
             finite,
             mut reordered,
+            collided,
         } = done;
+        if self.config.collision_counts {
+            // By id, so the counts follow the discs through every reordering.
+            self.collision_counts.resize(self.next_id as usize, 0);
+            for id in collided {
+                self.collision_counts[id as usize] += 1;
+            }
+        }
         if let Some(thermostat) = self.config.thermostat.as_ref().filter(|_| finite) {
             stats.thermostat_work = crate::thermostat::apply(
                 thermostat,
@@ -142,6 +151,7 @@ impl World {
         sums.friction.merge(&met.friction);
         stats.friction_work = sums.friction_work();
         self.friction_work += stats.friction_work;
+        self.thermostat_work += stats.thermostat_work;
         self.sums = sums;
         self.measured = measured;
         stats.pressure = self.pressure(measured.kinetic_energy, measured.momentum, stats.virial);
@@ -199,6 +209,9 @@ pub(crate) struct Substepped {
     pub finite: bool,
     /// The discs' storage order changed.
     pub reordered: bool,
+    /// The ids of the two discs of each impact, with [`Config::collision_counts`] (empty
+    /// otherwise).
+    pub collided: Vec<u32>,
 }
 
 impl Substepped {
@@ -217,6 +230,7 @@ impl Substepped {
             clock: Stopwatch::start(),
             finite: true,
             reordered: false,
+            collided: Vec::new(),
         }
     }
 }
@@ -386,9 +400,12 @@ impl<'w> Stages<'w> {
             law: self.ctx.law.for_pass(pass),
             ..self.ctx
         };
-        let tensor = self.config.pressure_tensor;
+        let (tensor, counting) = (self.config.pressure_tensor, self.config.collision_counts);
+        let resting_speed = ctx.resting_speed;
         let resolved = match self.log.as_deref_mut() {
-            None if !tensor => resolve_all(self.contacts, self.particles, &ctx, uniform),
+            None if !tensor && !counting => {
+                resolve_all(self.contacts, self.particles, &ctx, uniform)
+            }
             // One contact at a time, each reported or measured (the same bits:
             // `solver_order`).
             mut log => resolve_in_order(
@@ -403,6 +420,9 @@ impl<'w> Stages<'w> {
                     }
                     if tensor {
                         add_tensor(&mut done.tensor, pair);
+                    }
+                    if counting && pass == 0 && is_impact(pair.out.approach, resting_speed) {
+                        done.collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
                     }
                 },
             ),

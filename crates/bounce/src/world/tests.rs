@@ -119,11 +119,13 @@ fn a_loaded_reference_of_the_wrong_length_is_refused() {
         obstacle_impulses: Vec::new(),
         obstacle_work: 0.0,
         friction_work: 0.0,
+        thermostat_work: 0.0,
         emitter_states: Vec::new(),
         removed: 0,
         contact_log: Default::default(),
         sensors: Default::default(),
         emitted_ids: Vec::new(),
+        collision_counts: Vec::new(),
     };
     let error = World::try_from(state).unwrap_err().to_string();
     assert!(
