@@ -59,6 +59,15 @@ try {
     await page.mouse.click(px, py); // play again
     await pastStep(page, "bounce", stepOf(result.stepped) + 2);
     result.resumed = await page.evaluate(() => window.bounce.status());
+    // The method switch in the panel: exact hard discs from the scene's start, and back.
+    const names = result.buttons.split(" ");
+    const at = (name) => [1, 2].map((k) => Number(names[names.indexOf(name) + k]));
+    await page.mouse.click(...at("event_driven"));
+    await page.waitForFunction(() => / method event_driven$/.test(window.bounce.status()), null, { timeout: 60000 });
+    result.exact = await page.evaluate(() => window.bounce.status());
+    await page.mouse.click(...at("time_stepped"));
+    await page.waitForFunction(() => / method time_stepped$/.test(window.bounce.status()), null, { timeout: 60000 });
+    result.stepped_again = await page.evaluate(() => window.bounce.status());
     await page.evaluate(() => window.bounce.open_builtin("gas"));
     result.hash_100 = await page.evaluate(() => window.bounce.run_to(100));
     // Exact hard discs, the event-driven method, in the page's own build.

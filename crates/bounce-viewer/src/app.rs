@@ -52,7 +52,8 @@ pub struct ViewerApp {
     show_structure: bool,
     headless: Option<HeadlessState>,
     /// Screen rectangles of the play/pause and step buttons (for browser tests).
-    buttons: [egui::Rect; 2],
+    /// Where the play, step and the two method buttons were last drawn (for tests).
+    buttons: [egui::Rect; 4],
 }
 
 /// What the left mouse button makes.
@@ -123,7 +124,7 @@ impl ViewerApp {
             message: String::new(),
             show_help: false,
             show_structure: false,
-            buttons: [egui::Rect::NOTHING; 2],
+            buttons: [egui::Rect::NOTHING; 4],
             headless: headless.map(|(spec, result)| HeadlessState {
                 spec,
                 frames: 0,
@@ -286,7 +287,7 @@ impl ViewerApp {
             if step.clicked() {
                 self.step();
             }
-            self.buttons = [play.rect, step.rect];
+            (self.buttons[0], self.buttons[1]) = (play.rect, step.rect);
             if ui.button("reset").clicked() {
                 self.reset();
             }
@@ -322,8 +323,9 @@ impl ViewerApp {
         let mut method = config.method;
         ui.horizontal(|ui| {
             ui.label("method");
-            ui.radio_value(&mut method, Method::TimeStepped, "time-stepped");
-            ui.radio_value(&mut method, Method::EventDriven, "event-driven (exact)");
+            let stepped = ui.radio_value(&mut method, Method::TimeStepped, "time-stepped");
+            let exact = ui.radio_value(&mut method, Method::EventDriven, "event-driven (exact)");
+            (self.buttons[2], self.buttons[3]) = (stepped.rect, exact.rect);
         });
         if method != config.method {
             self.switch_method(method);
@@ -796,12 +798,16 @@ impl ViewerApp {
     /// `step N hash H particles P running B fps F` for tests and the page.
     pub fn status(&self) -> String {
         format!(
-            "step {} hash {:016x} particles {} running {} fps {:.1}",
+            "step {} hash {:016x} particles {} running {} fps {:.1} method {}",
             self.session.world.step_count(),
             self.session.world.state_hash(),
             self.session.world.len(),
             self.running,
-            self.fps()
+            self.fps(),
+            match self.session.world.config().method {
+                Method::TimeStepped => "time_stepped",
+                Method::EventDriven => "event_driven",
+            }
         )
     }
 
@@ -834,11 +840,15 @@ impl ViewerApp {
         self.record();
     }
 
-    /// `play X Y step X Y`: centres of the play/pause and step buttons in points (CSS
-    /// pixels in the browser), for tests that click them.
+    /// `play X Y step X Y time_stepped X Y event_driven X Y`: centres of the play/pause and
+    /// step buttons and of the two method buttons in points (CSS pixels in the browser), for
+    /// tests that click them.
     pub fn button_centres(&self) -> String {
-        let [play, step] = self.buttons.map(|r| r.center());
-        format!("play {} {} step {} {}", play.x, play.y, step.x, step.y)
+        let [play, step, stepped, exact] = self.buttons.map(|r| r.center());
+        format!(
+            "play {} {} step {} {} time_stepped {} {} event_driven {} {}",
+            play.x, play.y, step.x, step.y, stepped.x, stepped.y, exact.x, exact.y
+        )
     }
 
     /// Play (true) or pause.

@@ -190,6 +190,23 @@ fn the_page_runs_the_viewer_on_webgl_with_native_bits() {
     let shot = dir.path().join("webgl.png");
     let result = drive(&server, "webgl", &shot);
     check_run(&result);
+    // The panel's method buttons, clicked: the gas restarts as exact hard discs, and back.
+    let status = |key: &str| result[key].as_str().unwrap_or_default().to_string();
+    let particles = |s: &str| {
+        s.split(" particles ")
+            .nth(1)
+            .map(|t| t.split(' ').next().unwrap().to_string())
+    };
+    assert!(status("exact").ends_with("method event_driven"), "{result}");
+    assert!(
+        status("stepped_again").ends_with("method time_stepped"),
+        "{result}"
+    );
+    assert_eq!(
+        particles(&status("exact")),
+        particles(&status("resumed")),
+        "{result}"
+    );
     // The simulation canvas sits between the panels: discs on the dark background.
     let (differing, colours) = disc_pixels(&shot, 330..950, 90..700);
     assert!(
