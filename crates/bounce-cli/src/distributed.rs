@@ -46,8 +46,13 @@
 //! the gathered world carries into `events.csv` and the checkpoints: the same bytes as one
 //! process.
 //!
-//! Not yet across ranks: obstacles, emitters, sinks, sensors, thermostats, the pressure
-//! tensor and collision counts, and the event-driven method (refused with a message). Rough discs
+//! **Sensors.** Each part sends the ids of the discs in its domain inside each sensor after
+//! every step; rank 0 compares them with the last step's in the whole world's sensor state
+//! (`bounce::SensorState`), which the gathered world carries into `stats.csv` and the
+//! checkpoints: the same counts as one process.
+//!
+//! Not yet across ranks: obstacles, emitters, sinks, thermostats, the pressure tensor and
+//! collision counts, and the event-driven method (refused with a message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
 
@@ -59,7 +64,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use bounce::{
     Boundary, ContactEvent, ContactKind, ContactLog, DiscRecord, ExactSum, ParticleId, Party,
-    StepStats, StepSums, Tally, WallImpulse, WallSide, World, wrap_coordinate,
+    SensorState, StepStats, StepSums, Tally, WallImpulse, WallSide, World, wrap_coordinate,
 };
 use bounce_scenario::Session;
 use mpi::Count;
@@ -178,7 +183,6 @@ fn check_supported(session: &Session) -> Result<()> {
             config.method == bounce::Method::EventDriven,
             "time.method = \"event_driven\"",
         ),
-        (!config.sensors.is_empty(), "[[sensor]]"),
         (config.thermostat.is_some(), "world.thermostat"),
         (config.pressure_tensor, "output.pressure_tensor"),
         (config.collision_counts, "output.collision_counts"),
@@ -243,7 +247,11 @@ fn run(
         }
         let t = Instant::now();
         if let Some(outputs) = &mut outputs {
-            outputs.stats.totals.add(&stats, &ranks.part.world, dt);
+            let sensors = ranks.sensors.as_ref().map_or(&[][..], |s| s.counts());
+            outputs
+                .stats
+                .totals
+                .add(&stats, &ranks.part.world, sensors, dt);
             if let Some(log) = &ranks.contact_log {
                 let end = ranks.part.world.time();
                 outputs.contact_events(step, end, stats.substeps, log.events())?;
@@ -481,6 +489,9 @@ struct Ranks<'c> {
     /// With contact events, on rank 0: the whole world's log, fed with every part's
     /// sightings after each step.
     contact_log: Option<ContactLog>,
+    /// With sensors, on rank 0: the whole world's sensors, fed with the discs every part
+    /// sees in them after each step.
+    sensors: Option<SensorState>,
 }
 
 impl<'c> Ranks<'c> {
@@ -519,6 +530,8 @@ impl<'c> Ranks<'c> {
             step_times: Vec::new(),
             contact_log: (whole.config().contact_events && comm.rank() == 0)
                 .then(|| whole.contact_log().clone()),
+            sensors: (!whole.config().sensors.is_empty() && comm.rank() == 0)
+                .then(|| whole.sensor_state().clone()),
         };
         // Every rank holds every disc now: each takes its own share without messages.
         let all: Vec<DiscRecord> = whole
@@ -815,6 +828,9 @@ impl<'c> Ranks<'c> {
         if self.part.world.config().contact_events {
             self.gather_contacts(substeps);
         }
+        if !self.part.world.config().sensors.is_empty() {
+            self.gather_sensors();
+        }
         self.step_times.push(started.elapsed().as_secs_f64());
         Ok(merged)
     }
@@ -841,6 +857,33 @@ impl<'c> Ranks<'c> {
         let sightings = all.chunks_exact(SIGHTING_WORDS).map(sighting_of).collect();
         if let Some(log) = &mut self.contact_log {
             log.record_step(sightings, substeps, threshold);
+        }
+    }
+
+    /// Rank 0's sensors take the step's discs in each sensor: every part sends those in
+    /// its domain (each disc is in one), or with one rank the part's own state is the
+    /// whole world's.
+    fn gather_sensors(&mut self) {
+        let world = &self.part.world;
+        if self.part.tally.is_none() {
+            if let Some(state) = &mut self.sensors {
+                *state = world.sensor_state().clone();
+            }
+            return;
+        }
+        let words: Vec<f64> = (world.sensed().iter().enumerate())
+            .flat_map(|(k, ids)| ids.iter().flat_map(move |id| [k as f64, id.0 as f64]))
+            .collect();
+        let sensors = world.config().sensors.clone();
+        let Some(all) = self.gather_words(&words) else {
+            return;
+        };
+        let mut now = vec![Vec::new(); sensors.len()];
+        for pair in all.chunks_exact(2) {
+            now[pair[0] as usize].push(ParticleId(pair[1] as u32));
+        }
+        if let Some(state) = &mut self.sensors {
+            state.observe_sets(&sensors, now);
         }
     }
 
@@ -961,6 +1004,11 @@ impl<'c> Ranks<'c> {
         whole.set_reported_friction_work(self.friction_work);
         if let Some(log) = &self.contact_log {
             whole.set_contact_log(log.clone());
+        }
+        if let Some(state) = &self.sensors {
+            whole
+                .set_sensor_state(state.clone())
+                .context("the gathered sensors")?;
         }
         Ok(Some(whole))
     }

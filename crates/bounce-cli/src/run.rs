@@ -98,7 +98,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let stepped = session.run_until_stopped(total, &stop, |world, stats| -> Result<_> {
         let t = Instant::now();
         collisions += stats.collisions;
-        outputs.stats.totals.add(stats, world, dt);
+        outputs.stats.totals.add(stats, world, world.sensors(), dt);
         outputs.record(world)?;
         progress.inc(1);
         output_time += t.elapsed().as_secs_f64();
@@ -274,7 +274,7 @@ fn overflowed(
     let dt = outputs.dt;
     while world.step_count() < step {
         let stats = *world.step(dt)?;
-        totals.add(&stats, &world, dt);
+        totals.add(&stats, &world, world.sensors(), dt);
         if schedule.on(schedule.output.stats_every, world.step_count()) {
             totals.reset(true, outputs.stats.row_energy(&world));
         }

@@ -48,7 +48,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use std::ops::Range;
 
-use bounce::{Shape, StepStats, World};
+use bounce::{SensorCount, Shape, StepStats, World};
 use bounce_scenario::atomic::AtomicFile;
 use bounce_scenario::checkpoint::RunState;
 
@@ -229,8 +229,9 @@ impl Totals {
         }
     }
 
-    /// Adds one step of `dt` that `world` just took.
-    pub fn add(&mut self, stats: &StepStats, world: &World, dt: f64) {
+    /// Adds one step of `dt` that `world` just took, whose sensors counted `sensors` (the
+    /// world's own, or in a distributed run the root's for the whole world).
+    pub fn add(&mut self, stats: &StepStats, world: &World, sensors: &[SensorCount], dt: f64) {
         let impulses = world.obstacle_impulses();
         for t in [&mut self.row, &mut self.scheduled] {
             t.collisions += stats.collisions as u64;
@@ -245,7 +246,6 @@ impl Totals {
                 sum[0] += j[0];
                 sum[1] += j[1];
             }
-            let sensors = world.sensors();
             t.sensor_crossings.resize(sensors.len(), [0, 0]);
             for (sum, count) in t.sensor_crossings.iter_mut().zip(sensors) {
                 sum[0] += count.entered_last_step;

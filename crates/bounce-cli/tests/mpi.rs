@@ -517,3 +517,64 @@ fn profiles_and_displacements_are_the_same_bytes_on_any_number_of_ranks_and_afte
         "a resumed profile.csv or msd.csv differs"
     );
 }
+
+#[test]
+fn sensors_count_as_one_process_on_any_number_of_ranks_and_after_a_resume() {
+    // The 6,000-disc gas with a box across the domains' edges and a circle: discs cross
+    // them and the domains (handed over between ranks) all the while.
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = dir.path().join("sensed.toml");
+    let text = std::fs::read_to_string(scenarios().join("gas.toml")).unwrap()
+        + "\n[[sensor]]\nname = \"middle\"\nregion = { min = [60.0, 60.0], max = [140.0, 140.0] }\n\
+           \n[[sensor]]\nname = \"hole\"\nregion = { centre = [100.0, 30.0], radius = 25.0 }\n";
+    std::fs::write(&scenario, text).unwrap();
+    let scenario = scenario.to_str().unwrap().to_string();
+    let settings = [
+        "time.steps=120",
+        "gas.count=6000",
+        "world.max=[200.0, 200.0]",
+        "gas.radius=[0.3, 0.9]",
+        "gas.speed=10.0",
+        "output.stats_every=5",
+    ];
+    let stats = |ranks: Option<usize>, out: &str, extra: &[&str]| {
+        let mut args = sets(&settings);
+        args.extend_from_slice(extra);
+        ok(run(ranks, &scenario, &dir.path().join(out), &args), out);
+        std::fs::read_to_string(dir.path().join(out).join("stats.csv")).unwrap()
+    };
+    let one = stats(None, "one", &[]);
+    // The counts move: discs entered and left both sensors.
+    let header: Vec<&str> = one.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for name in [
+        "sensor_middle_in",
+        "sensor_middle_out",
+        "sensor_hole_in",
+        "sensor_hole_out",
+    ] {
+        let k = column(name);
+        let total: u64 = one
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(k).unwrap().parse::<u64>().unwrap())
+            .sum();
+        assert!(total > 50, "{name}: {total}");
+    }
+    for r in 2..=3 {
+        assert!(
+            stats(Some(r), &format!("r{r}"), &[]) == one,
+            "{r} ranks: stats.csv differs"
+        );
+    }
+    // Stopped at step 40 on three ranks, resumed on two: the sensors' discs travel in the
+    // checkpoint.
+    stats(Some(3), "resumed", &["--steps", "40"]);
+    let checkpoint = dir.path().join("resumed/checkpoint.bin");
+    let resumed = stats(
+        Some(2),
+        "resumed",
+        &["--resume", checkpoint.to_str().unwrap()],
+    );
+    assert!(resumed == one, "a resumed stats.csv differs");
+}

@@ -136,4 +136,4 @@ pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};
 pub use sum::{ExactSum, StepSums, WallSums};
-pub use world::{SavedWorld, SensorCount, StepError, World, WorldError};
+pub use world::{SavedWorld, SensorCount, SensorState, StepError, World, WorldError};

@@ -36,7 +36,7 @@ mod state;
 mod step;
 mod work;
 
-pub use sensors::SensorCount;
+pub use sensors::{SensorCount, SensorState};
 pub use state::SavedWorld;
 #[cfg(test)]
 mod tests;
@@ -102,7 +102,7 @@ pub struct World {
     /// [`Config::contact_events`]).
     pub(crate) contact_log: ContactLog,
     /// Each sensor's discs and counts.
-    sensors: sensors::Sensors,
+    sensors: sensors::SensorState,
     /// Which emitter gave which ids: `[first id, count, emitter]`, ascending (runs of
     /// consecutive ids from one emitter are merged).
     emitted_ids: Vec<[u32; 3]>,
@@ -215,7 +215,7 @@ impl World {
         config.validate()?;
         let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
         let emitter_count = config.emitters.len();
-        let sensors = sensors::Sensors::new(&config.sensors);
+        let sensors = sensors::SensorState::new(&config.sensors);
         let mut particles = Particles::default();
         if config.is_rough() {
             particles.start_turning();

@@ -1,5 +1,6 @@
 //! The world's side of distributed runs (see `part`): records of discs, a part of the
-//! world, discs leaving and arriving, ghost states written from their owners.
+//! world, discs leaving and arriving, ghost states written from their owners, the sensors'
+//! discs a part sees and the state the root keeps.
 
 use std::sync::OnceLock;
 
@@ -8,7 +9,7 @@ use crate::particles::ParticleId;
 use crate::stats::StepStats;
 use crate::sum::StepSums;
 
-use super::{World, WorldError};
+use super::{SensorState, World, WorldError};
 use crate::contact_events::ContactLog;
 
 impl World {
@@ -142,6 +143,45 @@ impl World {
     /// whole world's [`ContactLog::record_step`]. Taken once.
     pub fn take_contact_sightings(&mut self) -> Vec<(u32, crate::ContactEvent)> {
         self.contact_log.take_sightings()
+    }
+
+    /// Each sensor's discs now that this world counts (its tally's, in a part; all
+    /// otherwise), ids ascending: what a part tells the root for the whole world's
+    /// [`SensorState`].
+    pub fn sensed(&self) -> Vec<Vec<ParticleId>> {
+        let p = &self.particles;
+        let tally = self.tally;
+        self.config
+            .sensors
+            .iter()
+            .map(|sensor| {
+                let mut ids: Vec<ParticleId> = (0..p.len())
+                    .filter(|&i| {
+                        let at = [p.x[i], p.y[i]];
+                        sensor.region.contains(at) && tally.is_none_or(|t| t.counts(at[0], at[1]))
+                    })
+                    .map(|i| p.id[i])
+                    .collect();
+                ids.sort_unstable();
+                ids
+            })
+            .collect()
+    }
+
+    /// Every sensor's discs and counts.
+    pub fn sensor_state(&self) -> &SensorState {
+        &self.sensors
+    }
+
+    /// Replaces the sensors' state: a distributed run's whole world takes the one its root
+    /// keeps, so its counts, outputs and checkpoints are one process's. Refused (naming the
+    /// problem) when it does not fit this world's sensors and ids.
+    pub fn set_sensor_state(&mut self, state: SensorState) -> Result<(), WorldError> {
+        if let Some(problem) = state.problem(&self.config.sensors, self.next_id) {
+            return Err(WorldError::Inconsistent(format!("sensors: {problem}")));
+        }
+        self.sensors = state;
+        Ok(())
     }
 
     /// The contact log (the last substep's contacts and the last step's events).

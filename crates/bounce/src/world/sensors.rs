@@ -27,24 +27,26 @@ pub struct SensorCount {
     pub left_last_step: u64,
 }
 
-/// Every sensor's discs and counts.
+/// Every sensor's discs and counts ([`crate::World::sensor_state`]): what a distributed
+/// run's root keeps for the whole world, fed with the discs each part sees
+/// ([`SensorState::observe_sets`]).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub(crate) struct Sensors {
+pub struct SensorState {
     counts: Vec<SensorCount>,
     /// Each sensor's discs, ascending.
     holds: Vec<Vec<ParticleId>>,
 }
 
-impl Sensors {
+impl SensorState {
     /// Nothing held yet, for `sensors`.
-    pub(crate) fn new(sensors: &[Sensor]) -> Sensors {
-        let mut out = Sensors::default();
+    pub(crate) fn new(sensors: &[Sensor]) -> SensorState {
+        let mut out = SensorState::default();
         out.fit(sensors);
         out
     }
 
     /// The counts, one per sensor of the configuration.
-    pub(crate) fn counts(&self) -> &[SensorCount] {
+    pub fn counts(&self) -> &[SensorCount] {
         &self.counts
     }
 
@@ -59,12 +61,26 @@ impl Sensors {
 
     /// The end of a step: each sensor's discs now, against the last step's.
     pub(crate) fn observe(&mut self, sensors: &[Sensor], p: &Particles) {
+        let now = sensors
+            .iter()
+            .map(|sensor| {
+                (0..p.len())
+                    .filter(|&i| sensor.region.contains([p.x[i], p.y[i]]))
+                    .map(|i| p.id[i])
+                    .collect()
+            })
+            .collect();
+        self.observe_sets(sensors, now);
+    }
+
+    /// The end of a step, from each sensor's discs now (`now[k]` for sensor `k`, in any
+    /// order; a sensor without a set holds none): those new to a sensor entered it, those
+    /// it no longer holds left.
+    pub fn observe_sets(&mut self, sensors: &[Sensor], now: Vec<Vec<ParticleId>>) {
         self.fit(sensors);
-        for ((sensor, count), held) in sensors.iter().zip(&mut self.counts).zip(&mut self.holds) {
-            let mut now: Vec<ParticleId> = (0..p.len())
-                .filter(|&i| sensor.region.contains([p.x[i], p.y[i]]))
-                .map(|i| p.id[i])
-                .collect();
+        let sets = self.counts.iter_mut().zip(&mut self.holds);
+        let now = now.into_iter().chain(std::iter::repeat_with(Vec::new));
+        for ((count, held), mut now) in sets.zip(now) {
             now.sort_unstable();
             let stayed = now
                 .iter()

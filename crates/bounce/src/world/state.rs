@@ -48,7 +48,7 @@ pub(super) struct WorldState {
     pub(super) emitter_states: Vec<EmitterState>,
     pub(super) removed: u32,
     pub(super) contact_log: ContactLog,
-    pub(super) sensors: super::sensors::Sensors,
+    pub(super) sensors: super::sensors::SensorState,
     pub(super) emitted_ids: Vec<[u32; 3]>,
     pub(super) collision_counts: Vec<u64>,
 }
