@@ -134,6 +134,15 @@ impl Queries {
     }
 
     /// The discs in the snapshot.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// assert!(world.queries().is_empty());
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// assert_eq!(world.queries().len(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn len(&self) -> usize {
         self.id.len()
     }
@@ -250,6 +259,19 @@ impl Queries {
     /// `max_fraction` of the direction's length (discs containing the origin are not
     /// entered, as in Box2D); ties to the lower id. In a periodic box the ray goes on through
     /// the box's copies, for at most about four crossings of every cell.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let near = world.add_particle(Particle::new([3.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// world.add_particle(Particle::new([8.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// // From the origin along +x: the near disc's rim at x = 2, a fifth of the way.
+    /// let hit = world.queries().ray_cast([0.0, 0.0], [10.0, 0.0], 1.0).unwrap();
+    /// assert_eq!((hit.id, hit.fraction, hit.point), (near, 0.2, [2.0, 0.0]));
+    /// // Too short a ray meets nothing.
+    /// assert!(world.queries().ray_cast([0.0, 0.0], [10.0, 0.0], 0.1).is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn ray_cast(
         &self,
         origin: [f64; 2],

@@ -9,7 +9,17 @@ use crate::particles::{Particle, ParticleError, ParticleId};
 use super::World;
 
 impl World {
-    /// The storage index of particle `id` now.
+    /// The storage index of particle `id` now: where its values sit in
+    /// [`World::particles`]' arrays until the next step may reorder them.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let id = world.add_particle(Particle::new([3.0, 4.0], [0.0, 0.0], 0.5))?;
+    /// let i = world.index_of(id).unwrap();
+    /// assert_eq!(world.particles().x()[i], 3.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn index_of(&self, id: ParticleId) -> Option<usize> {
         self.index_map().get(id)
     }
@@ -21,6 +31,18 @@ impl World {
 
     /// Every disc as `(id, storage index)`, in id order (ids have gaps where a sink or
     /// `remove_particles` took discs).
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, ParticleId, World};
+    /// let mut world = World::new(Config::default())?;
+    /// for x in [0.0, 5.0, 10.0] {
+    ///     world.add_particle(Particle::new([x, 0.0], [0.0, 0.0], 0.5))?;
+    /// }
+    /// world.remove_particles(&[ParticleId(1)]);
+    /// let ids: Vec<u32> = world.in_id_order().iter().map(|(id, _)| id.0).collect();
+    /// assert_eq!(ids, [0, 2]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn in_id_order(&self) -> Vec<(ParticleId, usize)> {
         self.index_map().in_order()
     }
@@ -57,7 +79,16 @@ impl World {
         })
     }
 
-    /// Particle `id` as it is now.
+    /// Particle `id` as it is now (`None` for an id never given or removed).
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let id = world.add_particle(Particle::new([0.0, 0.0], [2.0, 0.0], 0.5))?;
+    /// world.step(0.5)?;
+    /// assert_eq!(world.particle(id).unwrap().position, [1.0, 0.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn particle(&self, id: ParticleId) -> Option<Particle> {
         let mut p = self.particles.get(self.index_of(id)?)?;
         if self.config.mass_model != crate::MassModel::PerParticle {
@@ -67,6 +98,16 @@ impl World {
     }
 
     /// Every particle in id order.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.add_particle(Particle::new([5.0, 0.0], [0.0, 0.0], 1.5))?;
+    /// let radii: Vec<f64> = world.particles_by_id().iter().map(|(_, p)| p.radius).collect();
+    /// assert_eq!(radii, [0.5, 1.5]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn particles_by_id(&self) -> Vec<(ParticleId, Particle)> {
         let mut ids: Vec<ParticleId> = self.particles.id.clone();
         ids.sort_unstable();
@@ -95,6 +136,17 @@ impl World {
 
     /// Sets the velocity of particle `id` (for interactive tools). Fails on an unknown id or a
     /// non-finite velocity.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let id = world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.set_velocity(id, [0.0, 3.0])?;
+    /// world.step(1.0)?;
+    /// assert_eq!(world.particle(id).unwrap().position, [0.0, 3.0]);
+    /// assert!(world.set_velocity(id, [f64::NAN, 0.0]).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_velocity(
         &mut self,
         id: ParticleId,
@@ -113,6 +165,21 @@ impl World {
     /// Moves every disc, `positions[k]` for id `k`, all or nothing: on the first position
     /// the boundary does not admit (or not finite), returns its index and the error, and the
     /// world is unchanged. Velocities and periodic image counts are kept.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([1.0, 1.0], [0.0, 0.0], 0.5))?;
+    /// world.add_particle(Particle::new([3.0, 1.0], [0.0, 0.0], 0.5))?;
+    /// world.set_positions(&[[5.0, 5.0], [7.0, 5.0]]).unwrap();
+    /// // The second is outside the box: refused by its index, nothing moved.
+    /// assert_eq!(world.set_positions(&[[2.0, 2.0], [20.0, 5.0]]).unwrap_err().0, 1);
+    /// assert_eq!(world.particles_by_id()[0].1.position, [5.0, 5.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_positions(&mut self, positions: &[[f64; 2]]) -> Result<(), (usize, ParticleError)> {
         self.set_each(positions, |particle, position| particle.position = position)?;
         self.broadphase.invalidate();
@@ -121,6 +188,17 @@ impl World {
 
     /// Sets every disc's velocity, `velocities[k]` for id `k`, all or nothing: on the first
     /// invalid one returns its index and the error, and the world is unchanged.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.add_particle(Particle::new([5.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.set_velocities(&[[1.0, 0.0], [0.0, -1.0]]).unwrap();
+    /// assert_eq!(world.particles_by_id()[1].1.velocity, [0.0, -1.0]);
+    /// assert_eq!(world.set_velocities(&[[0.0, 0.0], [f64::INFINITY, 0.0]]).unwrap_err().0, 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_velocities(
         &mut self,
         velocities: &[[f64; 2]],
@@ -164,6 +242,17 @@ impl World {
     /// Adds `delta_v` to the velocity of every particle whose centre lies within `radius` of
     /// `centre` (for interactive tools: a push). Returns how many were pushed; non-finite
     /// arguments push nothing.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let near = world.add_particle(Particle::new([1.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// let far = world.add_particle(Particle::new([9.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// assert_eq!(world.push_region([0.0, 0.0], 2.0, [0.0, 4.0]), 1);
+    /// assert_eq!(world.particle(near).unwrap().velocity, [0.0, 4.0]);
+    /// assert_eq!(world.particle(far).unwrap().velocity, [0.0, 0.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn push_region(&mut self, centre: [f64; 2], radius: f64, delta_v: [f64; 2]) -> usize {
         let finite = centre.iter().chain(&delta_v).all(|v| v.is_finite()) && radius.is_finite();
         if !finite || radius < 0.0 {
@@ -211,6 +300,15 @@ impl World {
     }
 
     /// The particle whose disc contains `point` (the nearest centre if several overlap it).
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// let id = world.add_particle(Particle::new([2.0, 2.0], [0.0, 0.0], 1.0))?;
+    /// assert_eq!(world.particle_at([2.5, 2.5]), Some(id));
+    /// assert_eq!(world.particle_at([5.0, 5.0]), None);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn particle_at(&self, point: [f64; 2]) -> Option<ParticleId> {
         let p = &self.particles;
         (0..p.len())
@@ -225,6 +323,17 @@ impl World {
     /// The pairs within the collision distance right now, as sorted id pairs, found the way a
     /// step finds them (grids, then the law's test). A query: neither the state nor the
     /// storage order changes.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, ParticleId, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// world.add_particle(Particle::new([1.5, 0.0], [0.0, 0.0], 1.0))?; // overlapping
+    /// world.add_particle(Particle::new([9.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// assert_eq!(world.colliding_pairs(), [(ParticleId(0), ParticleId(1))]);
+    /// assert_eq!(world.colliding_pairs(), world.colliding_pairs_brute_force());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn colliding_pairs(&self) -> Vec<(ParticleId, ParticleId)> {
         let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
         let p = &self.particles;
@@ -240,6 +349,15 @@ impl World {
 
     /// The same pairs as [`World::colliding_pairs`] by testing all N(N-1)/2 pairs: the
     /// reference the grid is tested against. O(N²): for tests and small worlds.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 1.0))?;
+    /// world.add_particle(Particle::new([2.0, 0.0], [0.0, 0.0], 1.0))?; // touching counts
+    /// assert_eq!(world.colliding_pairs_brute_force().len(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
         let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
         broadphase::brute_force_pairs(&self.particles, &ctx)

@@ -70,6 +70,19 @@ impl World {
 
     /// Removes the discs with these ids (unknown ids are skipped); returns how many went.
     /// Their ids are never given again.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, ParticleId, World};
+    /// let mut world = World::new(Config::default())?;
+    /// for x in [0.0, 5.0] {
+    ///     world.add_particle(Particle::new([x, 0.0], [0.0, 0.0], 0.5))?;
+    /// }
+    /// assert_eq!(world.remove_particles(&[ParticleId(0), ParticleId(9)]), 1);
+    /// assert_eq!(world.len(), 1);
+    /// let next = world.add_particle(Particle::new([9.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// assert_eq!(next, ParticleId(2)); // id 0 is not given again
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn remove_particles(&mut self, ids: &[ParticleId]) -> usize {
         let mut doomed = vec![false; self.particles.len()];
         for &id in ids {
@@ -94,11 +107,46 @@ impl World {
 
     /// The discs the emitters added at the start of the last step, each with the index of
     /// its emitter in `Config::emitters`.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Emitter, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     emitters: vec![Emitter {
+    ///         rate: 100.0,
+    ///         limit: Some(5),
+    ///         ..Emitter::new([1.0, 1.0], [19.0, 19.0], 0.5)
+    ///     }],
+    ///     ..Config::default()
+    /// })?;
+    /// world.step(0.1)?;
+    /// // The 5 discs the emitter was limited to, all from emitter 0.
+    /// assert_eq!(world.emitted_last_step().len(), 5);
+    /// assert!(world.emitted_last_step().iter().all(|&(_, k)| k == 0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn emitted_last_step(&self) -> &[(ParticleId, u32)] {
         &self.emitted_last_step
     }
 
     /// The emitter (its index in `Config::emitters`) that added disc `id`, if one did.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Emitter, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     emitters: vec![Emitter {
+    ///         rate: 100.0,
+    ///         limit: Some(5),
+    ///         ..Emitter::new([1.0, 1.0], [19.0, 19.0], 0.5)
+    ///     }],
+    ///     ..Config::default()
+    /// })?;
+    /// world.step(0.1)?;
+    /// let (id, _) = world.emitted_last_step()[0];
+    /// assert_eq!(world.emitter_of(id), Some(0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn emitter_of(&self, id: ParticleId) -> Option<u32> {
         let k = self.emitted_ids.partition_point(|run| run[0] <= id.0);
         let run = self.emitted_ids.get(k.checked_sub(1)?)?;
@@ -106,11 +154,36 @@ impl World {
     }
 
     /// How far each emitter has got.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Emitter, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     emitters: vec![Emitter {
+    ///         rate: 100.0,
+    ///         limit: Some(5),
+    ///         ..Emitter::new([1.0, 1.0], [19.0, 19.0], 0.5)
+    ///     }],
+    ///     ..Config::default()
+    /// })?;
+    /// world.step(0.1)?;
+    /// assert_eq!(world.emitter_states()[0].emitted, 5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn emitter_states(&self) -> &[EmitterState] {
         &self.emitter_states
     }
 
     /// The next id a disc will get: one more than every id given so far.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default())?;
+    /// assert_eq!(world.next_id(), 0);
+    /// let id = world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// assert_eq!((id.0, world.next_id()), (0, 1));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn next_id(&self) -> u32 {
         self.next_id
     }

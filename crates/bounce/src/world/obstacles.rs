@@ -29,6 +29,21 @@ impl World {
     }
 
     /// The obstacles where they are now (moving ones moved), in the configuration's order.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Motion, Obstacle, Particle, World};
+    /// // A segment moving up at 1 a time unit, a disc at rest above it.
+    /// let piston = Obstacle::segment([0.0, 1.0], [20.0, 1.0]).moving(Motion::Velocity([0.0, 1.0]));
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     obstacles: vec![piston],
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([10.0, 3.0], [0.0, 0.0], 0.5))?;
+    /// world.step(0.5)?;
+    /// assert_eq!(world.obstacle_shapes()[0], bounce::Shape::Segment { a: [0.0, 1.5], b: [20.0, 1.5] });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn obstacle_shapes(&self) -> Vec<Shape> {
         self.config
             .obstacles
@@ -39,6 +54,22 @@ impl World {
     }
 
     /// Where each obstacle is (its offset from the configured shape) and how fast it moves.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Motion, Obstacle, Particle, World};
+    /// // A segment moving up at 1 a time unit, a disc at rest above it.
+    /// let piston = Obstacle::segment([0.0, 1.0], [20.0, 1.0]).moving(Motion::Velocity([0.0, 1.0]));
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     obstacles: vec![piston],
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([10.0, 3.0], [0.0, 0.0], 0.5))?;
+    /// world.step(0.5)?;
+    /// let state = world.obstacle_states()[0];
+    /// assert_eq!((state.offset, state.velocity), ([0.0, 0.5], [0.0, 1.0]));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn obstacle_states(&self) -> &[ObstacleState] {
         &self.obstacle_states
     }
@@ -46,12 +77,45 @@ impl World {
     /// The work the moving obstacles have done on the discs since the start (the sum of
     /// [`crate::StepStats::obstacle_work`]): with elastic collisions, the gain in kinetic energy a
     /// piston gave the gas.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Motion, Obstacle, Particle, World};
+    /// // A segment moving up at 1 a time unit, a disc at rest above it.
+    /// let piston = Obstacle::segment([0.0, 1.0], [20.0, 1.0]).moving(Motion::Velocity([0.0, 1.0]));
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [20.0, 20.0]),
+    ///     obstacles: vec![piston],
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([10.0, 3.0], [0.0, 0.0], 0.5))?;
+    /// for _ in 0..300 {
+    ///     world.step(0.01)?;
+    /// }
+    /// // The piston met the disc and threw it up: the work it did is the energy gained.
+    /// assert!(world.obstacle_work() > 0.0);
+    /// assert!((world.obstacle_work() - world.stats().kinetic_energy).abs() < 1e-9);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn obstacle_work(&self) -> f64 {
         self.obstacle_work
     }
 
     /// The momentum each obstacle received during the last step (divide by `dt` for the
     /// force), in the configuration's order.
+    ///
+    /// ```
+    /// use bounce::{Config, Obstacle, Particle, World};
+    /// // A disc (mass 1) falling onto a fixed peg at speed 2 bounces straight back.
+    /// let mut world = World::new(Config {
+    ///     obstacles: vec![Obstacle::peg([0.0, 0.0], 1.0)],
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([0.0, 2.01], [0.0, -2.0], 1.0))?;
+    /// world.step(0.01)?;
+    /// let [jx, jy] = world.obstacle_impulses()[0];
+    /// assert!(jx.abs() < 1e-12 && (jy + 4.0).abs() < 1e-9); // the peg took −2 m v
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn obstacle_impulses(&self) -> &[[f64; 2]] {
         &self.obstacle_impulses
     }

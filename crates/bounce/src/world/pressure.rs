@@ -11,6 +11,20 @@ impl World {
     /// The pressure `(K + W) / A` of [`crate::StepStats::pressure`] for a kinetic energy,
     /// momentum and virial `W` (the discs' total mass and mean radius are the world's, summed
     /// in id order). `None` in an open world.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([2.0, 2.0], [1.0, 0.0], 0.5))?;
+    /// world.add_particle(Particle::new([7.0, 7.0], [-1.0, 0.0], 0.5))?;
+    /// // No collisions (W = 0): P A = N kT = the kinetic energy, ½ · 0.5 · 1 · 2.
+    /// let p = world.pressure(0.5, [0.0, 0.0], 0.0).unwrap();
+    /// assert!((p - 0.5 / 100.0).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
         let m = &self.measured;
         let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;

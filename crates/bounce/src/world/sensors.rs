@@ -13,6 +13,22 @@ use crate::config::Sensor;
 use crate::particles::{ParticleId, Particles};
 
 /// One sensor's counts ([`crate::World::sensors`]).
+///
+/// ```
+/// use bounce::{Config, Particle, Region, Sensor, World};
+/// let gate = Region::Box { min: [4.0, -1.0], max: [6.0, 1.0] };
+/// let mut world = World::new(Config {
+///     sensors: vec![Sensor::new("gate", gate)],
+///     ..Config::default()
+/// })?;
+/// world.add_particle(Particle::new([0.0, 0.0], [10.0, 0.0], 0.5))?;
+/// for _ in 0..100 {
+///     world.step(0.01)?; // through the gate and out the other side
+/// }
+/// let count = &world.sensors()[0];
+/// assert_eq!((count.entered, count.left, count.inside), (1, 1, 0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SensorCount {
     /// The discs whose centre entered the region since the world was made.
@@ -29,7 +45,7 @@ pub struct SensorCount {
 
 /// Every sensor's discs and counts ([`crate::World::sensor_state`]): what a distributed
 /// run's root keeps for the whole world, fed with the discs each part sees
-/// ([`SensorState::observe_sets`]).
+/// ([`SensorState::observe_sets`]). See there for an example.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct SensorState {
     counts: Vec<SensorCount>,
@@ -45,7 +61,21 @@ impl SensorState {
         out
     }
 
-    /// The counts, one per sensor of the configuration.
+    /// The counts, one per sensor of the configuration (what [`crate::World::sensors`]
+    /// gives).
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, Region, Sensor, World};
+    /// let mut world = World::new(Config {
+    ///     sensors: vec![Sensor::new("all", Region::Circle { centre: [0.0, 0.0], radius: 9.0 })],
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([1.0, 0.0], [0.0, 0.0], 0.5))?;
+    /// world.step(0.1)?;
+    /// assert_eq!(world.sensor_state().counts(), world.sensors());
+    /// assert_eq!(world.sensors()[0].inside, 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn counts(&self) -> &[SensorCount] {
         &self.counts
     }
@@ -76,6 +106,19 @@ impl SensorState {
     /// The end of a step, from each sensor's discs now (`now[k]` for sensor `k`, in any
     /// order; a sensor without a set holds none): those new to a sensor entered it, those
     /// it no longer holds left.
+    ///
+    /// ```
+    /// use bounce::{Config, ParticleId, Region, Sensor, World};
+    /// let sensors = vec![Sensor::new("a", Region::Circle { centre: [0.0, 0.0], radius: 1.0 })];
+    /// let world = World::new(Config { sensors: sensors.clone(), ..Config::default() })?;
+    /// let mut state = world.sensor_state().clone();
+    /// state.observe_sets(&sensors, vec![vec![ParticleId(3), ParticleId(1)]]);
+    /// state.observe_sets(&sensors, vec![vec![ParticleId(1), ParticleId(5)]]);
+    /// let count = &state.counts()[0];
+    /// assert_eq!((count.entered, count.left, count.inside), (3, 1, 2));
+    /// assert_eq!((count.entered_last_step, count.left_last_step), (1, 1));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn observe_sets(&mut self, sensors: &[Sensor], now: Vec<Vec<ParticleId>>) {
         self.fit(sensors);
         let sets = self.counts.iter_mut().zip(&mut self.holds);
