@@ -134,15 +134,6 @@ impl Queries {
     }
 
     /// The discs in the snapshot.
-    ///
-    /// ```
-    /// use bounce::{Config, Particle, World};
-    /// let mut world = World::new(Config::default())?;
-    /// assert!(world.queries().is_empty());
-    /// world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 1.0))?;
-    /// assert_eq!(world.queries().len(), 1);
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
     pub fn len(&self) -> usize {
         self.id.len()
     }
