@@ -12,6 +12,15 @@ use crate::parallel::{CHUNK, Executor};
 
 /// A particle's stable identity, assigned in order of addition from 0. A `u32` in memory
 /// (`repr(transparent)`), so a slice of ids can be shared as `u32`s (the Python view does).
+///
+/// ```
+/// use bounce::{Config, Particle, ParticleId, World};
+/// let mut world = World::new(Config::default())?;
+/// let a = world.add_particle(Particle::new([0.0, 0.0], [0.0, 0.0], 0.5))?;
+/// let b = world.add_particle(Particle::new([3.0, 0.0], [0.0, 0.0], 0.5))?;
+/// assert_eq!((a, b), (ParticleId(0), ParticleId(1)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[repr(transparent)]
 pub struct ParticleId(pub u32);
@@ -23,6 +32,20 @@ pub(crate) fn ordered(a: ParticleId, b: ParticleId) -> (ParticleId, ParticleId) 
 
 /// One disc as the user describes it: what goes into [`crate::World::add_particle`] and comes
 /// out of [`crate::World::particle`].
+///
+/// ```
+/// use bounce::{Config, Particle, World};
+/// let disc = Particle {
+///     mass: Some(2.0), // used by MassModel::PerParticle; other models derive it
+///     angular_velocity: 1.5,
+///     ..Particle::new([1.0, 2.0], [0.5, 0.0], 0.25).with_tag(42)
+/// };
+/// assert!(disc.turns() && disc.validate_values().is_ok());
+/// let mut world = World::new(Config::default())?;
+/// let id = world.add_particle(disc)?;
+/// assert_eq!(world.particle(id).unwrap().tag, 42);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Particle {
     /// Centre, in length units.
@@ -51,7 +74,8 @@ pub struct Particle {
 }
 
 impl Particle {
-    /// A disc at `position` with `velocity` and `radius`, mass from the mass model.
+    /// A disc at `position` with `velocity` and `radius`, mass from the mass model (no
+    /// per-particle mass, no spin, tag 0). See [`Particle`] for an example.
     pub fn new(position: [f64; 2], velocity: [f64; 2], radius: f64) -> Self {
         Particle {
             position,
@@ -64,7 +88,7 @@ impl Particle {
         }
     }
 
-    /// The same disc with `tag` ([`Particle::tag`]).
+    /// The same disc with `tag` ([`Particle::tag`]). See [`Particle`] for an example.
     pub fn with_tag(self, tag: u64) -> Self {
         Particle { tag, ..self }
     }
@@ -77,6 +101,23 @@ impl Particle {
 }
 
 /// Why a particle was refused. The world is unchanged when this is returned.
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, ParticleError, World};
+/// let mut world = World::new(Config {
+///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+///     ..Config::default()
+/// })?;
+/// let outside = Particle::new([12.0, 5.0], [0.0, 0.0], 0.5);
+/// assert!(matches!(world.add_particle(outside), Err(ParticleError::OutsideBox { .. })));
+/// let bad = Particle::new([5.0, 5.0], [f64::NAN, 0.0], 0.5);
+/// assert_eq!(
+///     world.add_particle(bad).unwrap_err().to_string(),
+///     "velocity [NaN, 0.0] is not finite"
+/// );
+/// assert_eq!(world.len(), 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum ParticleError {
     /// A position component is NaN or infinite.
@@ -181,6 +222,23 @@ impl Particle {
 
 /// The particles of a world, struct-of-arrays. Read it through [`crate::World::particles`];
 /// index `i` addresses the same particle in every slice during one step.
+///
+/// ```
+/// use bounce::{Config, Particle, World};
+/// let mut world = World::new(Config::default())?;
+/// world.add_particle(Particle::new([0.0, 0.0], [1.0, 0.0], 0.5))?;
+/// world.add_particle(Particle::new([4.0, 0.0], [0.0, 2.0], 1.0))?;
+/// world.step(0.5)?;
+/// let p = world.particles();
+/// // The storage order is the engine's: find a disc by its id, or use `get`.
+/// let i = p.ids().iter().position(|id| id.0 == 1).unwrap();
+/// assert_eq!((p.x()[i], p.y()[i], p.vy()[i], p.radius()[i]), (4.0, 1.0, 2.0, 1.0));
+/// assert_eq!(p.get(i).unwrap().position, [4.0, 1.0]);
+/// assert_eq!(p.image()[i], [0, 0]); // no periodic box
+/// assert!(!p.turns() && p.angular_velocity().is_empty() && p.tag().is_empty());
+/// assert_eq!(p.len(), 2);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Particles {
     pub(crate) id: Vec<ParticleId>,

@@ -9,12 +9,14 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 mod method;
+mod models;
 mod obstacle;
 mod sensor;
 mod sources;
 mod thermostat;
 
 pub use method::Method;
+pub use models::{MassModel, RestingContacts, RestitutionModel, VelocityUpdate};
 
 pub use obstacle::{Motion, Obstacle, ObstacleState, Shape};
 pub use sensor::{Region, Sensor};
@@ -188,6 +190,20 @@ impl Default for Config {
 }
 
 /// The edge of the world.
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, World};
+/// let mut world = World::new(Config {
+///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
+///     ..Config::default()
+/// })?;
+/// let id = world.add_particle(Particle::new([9.5, 5.0], [1.0, 0.0], 0.5))?;
+/// world.step(1.0)?; // out through the right edge, in through the left
+/// assert_eq!(world.particle(id).unwrap().position, [0.5, 5.0]);
+/// assert_eq!(Boundary::walls([0.0, 0.0], [4.0, 3.0]).bounds(), Some(([0.0, 0.0], [4.0, 3.0])));
+/// assert_eq!(Boundary::Open.bounds(), None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Boundary {
@@ -220,7 +236,7 @@ pub enum Boundary {
 
 impl Boundary {
     /// Walls around the box `[min, max]` with the wall restitution equal to the coefficient of
-    /// restitution.
+    /// restitution. See [`Boundary`] for an example.
     pub fn walls(min: [f64; 2], max: [f64; 2]) -> Self {
         Boundary::Walls {
             min,
@@ -229,12 +245,13 @@ impl Boundary {
         }
     }
 
-    /// A periodic box `[min, max)`.
+    /// A periodic box `[min, max)`. See [`Boundary`] for an example.
     pub fn periodic(min: [f64; 2], max: [f64; 2]) -> Self {
         Boundary::Periodic { min, max }
     }
 
-    /// The box of a walled or periodic world; `None` when open.
+    /// The box of a walled or periodic world; `None` when open. See [`Boundary`] for an
+    /// example.
     pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
         match *self {
             Boundary::Open => None,
@@ -243,83 +260,16 @@ impl Boundary {
     }
 }
 
-/// The mass of each disc.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MassModel {
-    /// The seed's choice: mass = radius. Cheap and what the seed's formulas say, but a disc of
-    /// twice the radius has four times the area and only twice the mass.
-    Radius,
-    /// Mass = π r² (uniform areal density 1): what a 2D disc of one material weighs. Choose it
-    /// for mixtures of sizes where heavy large discs matter (Brownian motion, segregation).
-    Area,
-    /// Each particle's own [`crate::Particle::mass`] (defaulting to π r² when not given).
-    PerParticle,
-}
-
-impl MassModel {
-    /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
-    #[inline]
-    pub fn mass(self, radius: f64, per_particle: f64) -> f64 {
-        match self {
-            MassModel::Radius => radius,
-            MassModel::Area => std::f64::consts::PI * radius * radius,
-            MassModel::PerParticle => per_particle,
-        }
-    }
-}
-
-/// How the coefficient of restitution `e` enters the collision.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RestitutionModel {
-    /// The seed's step 6: compute both elastic normal velocities, then multiply each by `e`.
-    /// For `e < 1` this does not conserve momentum (a resting pair hit by a moving one loses
-    /// momentum to nowhere), and pairs keep losing speed while in contact.
-    ScaleEachNormalVelocity,
-    /// The standard Newton restitution law: the relative normal velocity is reversed and scaled
-    /// by `e`, the centre-of-mass velocity is kept. Conserves momentum for every `e`;
-    /// identical to the seed at `e = 1` up to rounding.
-    RelativeNormalVelocity,
-}
-
-/// Which detected pairs get their velocities changed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum VelocityUpdate {
-    /// The seed's: every pair within the collision distance gets steps 4–7, even one whose
-    /// discs already move apart. Such a pair exchanges its normal velocities back, so two discs
-    /// still overlapping after a bounce can stick together for a few steps.
-    AllDetected,
-    /// Only pairs whose relative normal velocity brings them closer. The usual choice in
-    /// impulse-based engines: separating pairs only get the overlap push.
-    ApproachingOnly,
-}
-
-/// What a **resting contact** does: a contact whose normal speed (towards or away from the
-/// other side) is at most the resting speed, 4 substeps of gravity's pull
-/// ([`crate::law::resting_speed`], the speed that also tells a step's `contacts` from its
-/// `collisions`). Without gravity no contact rests, and both choices are the seed's.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RestingContacts {
-    /// The seed's: every contact gets its restitution, however slow. Gravity pulls a disc
-    /// resting on the floor, a segment or a peg in by `|g| h` each substep, and the
-    /// reflection sends it back up at `e |g| h`: at the end of a step it moves at up to
-    /// `|g| h` (kinetic energy up to `½ m (g h)²`), and in a stack the exchange of normal
-    /// velocities passes that speed up and down (a stacked pair at `e = 1` gains up to a few
-    /// tenths of a percent of its energy over a run).
-    Bounce,
-    /// A resting contact is perfectly inelastic along its normal: a disc on a wall or an
-    /// obstacle leaves with the obstacle's normal velocity (it stops against a fixed one),
-    /// and a pair leaves with one common normal velocity, the pair's momentum kept (whatever
-    /// [`RestitutionModel`]). Faster contacts, impacts, keep the restitution. A disc resting
-    /// on the floor, a segment or a peg is then at rest at the end of every substep, and
-    /// resting contacts never add energy. Tangential velocities are kept, as always.
-    Rest,
-}
-
 /// A configuration value out of its allowed range.
+///
+/// ```
+/// use bounce::Config;
+/// let config = Config { coefficient_of_restitution: 1.5, substeps: 0, ..Config::default() };
+/// let error = config.validate().unwrap_err();
+/// assert_eq!(error.field, "coefficient_of_restitution");
+/// assert_eq!(config.problems().len(), 2); // every problem, not only the first
+/// assert!(error.to_string().starts_with("invalid config: `coefficient_of_restitution` = 1.5"));
+/// ```
 #[derive(Clone, Debug, PartialEq, Error)]
 #[error("invalid config: `{field}` = {value}: {expected}")]
 pub struct ConfigError {
@@ -333,6 +283,7 @@ pub struct ConfigError {
 
 impl Config {
     /// Checks every field; the first problem is returned, naming the field and its value.
+    /// See [`ConfigError`] for an example.
     pub fn validate(&self) -> Result<(), ConfigError> {
         match self.problems().into_iter().next() {
             Some(e) => Err(e),
@@ -340,7 +291,7 @@ impl Config {
         }
     }
 
-    /// Every invalid field, in declaration order.
+    /// Every invalid field, in declaration order. See [`ConfigError`] for an example.
     pub fn problems(&self) -> Vec<ConfigError> {
         let mut out = Vec::new();
         let mut err = |field, value: String, expected| {
@@ -520,11 +471,21 @@ impl Config {
     }
 
     /// The friction coefficient the walls use.
+    ///
+    /// ```
+    /// use bounce::{Config, Obstacle};
+    /// let config = Config { friction: 0.4, wall_friction: Some(0.1), ..Config::default() };
+    /// assert_eq!(config.wall_friction(), 0.1);
+    /// let (plain, sticky) = (Obstacle::peg([0.0, 0.0], 1.0), Obstacle::peg([5.0, 0.0], 1.0).with_friction(0.9));
+    /// assert_eq!((config.obstacle_friction(&plain), config.obstacle_friction(&sticky)), (0.4, 0.9));
+    /// assert!(config.is_rough() && !Config::default().is_rough());
+    /// ```
     pub fn wall_friction(&self) -> f64 {
         self.wall_friction.unwrap_or(self.friction)
     }
 
-    /// The friction coefficient of obstacle `obstacle`.
+    /// The friction coefficient of obstacle `obstacle` (its own, else the discs'). See
+    /// [`Config::wall_friction`] for an example.
     pub fn obstacle_friction(&self, obstacle: &Obstacle) -> f64 {
         obstacle.friction.unwrap_or(self.friction)
     }
@@ -532,7 +493,7 @@ impl Config {
     /// Whether the discs are rough: some contact (a pair, a wall of the box, an obstacle)
     /// has friction, or there is rolling resistance. Rough discs carry an angular velocity
     /// and an orientation; smooth ones (the seed's, the default) have neither, and their
-    /// step is the seed's to the bit.
+    /// step is the seed's to the bit. See [`Config::wall_friction`] for an example.
     pub fn is_rough(&self) -> bool {
         let walls = matches!(self.boundary, Boundary::Walls { .. });
         self.friction > 0.0
@@ -544,7 +505,15 @@ impl Config {
                 .any(|o| self.obstacle_friction(o) > 0.0)
     }
 
-    /// The restitution the walls use.
+    /// The restitution the walls use: the walls' own, else the coefficient of restitution.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config};
+    /// let config = Config { coefficient_of_restitution: 0.8, ..Config::default() };
+    /// assert_eq!(config.wall_restitution(), 0.8);
+    /// let walls = Boundary::Walls { min: [0.0, 0.0], max: [1.0, 1.0], wall_restitution: Some(1.0) };
+    /// assert_eq!(Config { boundary: walls, ..config }.wall_restitution(), 1.0);
+    /// ```
     pub fn wall_restitution(&self) -> f64 {
         match self.boundary {
             Boundary::Walls {
