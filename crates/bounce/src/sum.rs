@@ -23,6 +23,28 @@ const LANES: usize = 67;
 const ADDS_BEFORE_CARRY: u32 = 1 << 10;
 
 /// An exact, order-independent sum of `f64` terms.
+///
+/// ```
+/// use bounce::ExactSum;
+/// let mut a = ExactSum::new();
+/// for t in [1e16, 1.0, -1e16, 0.1, 0.2] {
+///     a.add(t);
+/// }
+/// // Added left to right in f64 the 1.0 is lost (0.30000000000000004); exactly it is not.
+/// assert_eq!(a.value(), 1.3);
+/// // Another order and grouping, merged: the same bits.
+/// let (mut b, mut c) = (ExactSum::new(), ExactSum::new());
+/// b.add_all(&[0.2, 0.1]);
+/// c.add_all(&[-1e16, 1.0, 1e16]);
+/// b.merge(&c);
+/// assert_eq!(b.value().to_bits(), a.value().to_bits());
+/// // As words (what a distributed run adds lane by lane) and back.
+/// let words = a.to_words();
+/// assert_eq!(words.len(), ExactSum::WORDS);
+/// let lanes = &words[..ExactSum::WORDS - 1];
+/// let special = f64::from_bits(words[ExactSum::WORDS - 1] as u64);
+/// assert_eq!(ExactSum::from_words(lanes, special).value(), 1.3);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ExactSum {
     /// Lane `k` weighs `2^(32 k - 1074)`; `None` until a non-zero finite term arrives.
@@ -34,12 +56,12 @@ pub struct ExactSum {
 }
 
 impl ExactSum {
-    /// An empty sum (zero).
+    /// An empty sum (zero). See [`ExactSum`] for an example.
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Adds `v` exactly.
+    /// Adds `v` exactly. See [`ExactSum`] for an example.
     #[inline]
     pub fn add(&mut self, v: f64) {
         self.add_all(&[v]);
@@ -47,6 +69,7 @@ impl ExactSum {
 
     /// Adds each of `terms` exactly (zeros add nothing): the carry interval checked and the
     /// lanes found once for all of them (the solver adds its lanes' virial terms together).
+    /// See [`ExactSum`] for an example.
     #[inline]
     pub fn add_all(&mut self, terms: &[f64]) {
         debug_assert!(terms.len() <= ADDS_BEFORE_CARRY as usize);
@@ -88,7 +111,7 @@ impl ExactSum {
         }
     }
 
-    /// Adds every term of `other` (the two sums merged: still exact).
+    /// Adds every term of `other` (the two sums merged: still exact). See [`ExactSum`] for an example.
     pub fn merge(&mut self, other: &ExactSum) {
         self.special += other.special;
         let Some(theirs) = &other.lanes else {
@@ -113,7 +136,8 @@ impl ExactSum {
     }
 
     /// The sum as one `f64` (within a unit in the last place of the exact total). Equal
-    /// totals give equal bits, however their terms were ordered or grouped.
+    /// totals give equal bits, however their terms were ordered or grouped. See [`ExactSum`]
+    /// for an example.
     pub fn value(&self) -> f64 {
         let finite = match &self.lanes {
             None => 0.0,
@@ -144,7 +168,7 @@ impl ExactSum {
 
     /// The sum's canonical words, for sending (a distributed run reduces these by adding
     /// them lane by lane, then [`ExactSum::from_words`]): `LANES` lanes then the non-finite
-    /// part's bits.
+    /// part's bits. See [`ExactSum`] for an example.
     pub fn to_words(&self) -> Vec<i64> {
         let mut words = match &self.lanes {
             Some(lanes) => {
@@ -158,11 +182,11 @@ impl ExactSum {
         words
     }
 
-    /// The number of words [`ExactSum::to_words`] gives.
+    /// The number of words [`ExactSum::to_words`] gives. See [`ExactSum`] for an example.
     pub const WORDS: usize = LANES + 1;
 
     /// The sum of several sums' lanes (added lane by lane, at most 2^31 of them) and the
-    /// non-finite parts summed separately, as `special`.
+    /// non-finite parts summed separately, as `special`. See [`ExactSum`] for an example.
     pub fn from_words(lanes: &[i64], special: f64) -> ExactSum {
         let mut sum = ExactSum {
             lanes: None,
@@ -203,7 +227,7 @@ fn scale(mut v: f64, mut e: i32) -> f64 {
 }
 
 /// The momentum each wall received, and the energy the walls' friction removed, summed
-/// exactly (see [`ExactSum`]).
+/// exactly (see [`ExactSum`]). See [`StepSums`] for an example.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WallSums {
     /// Left (`min[0]`), right, bottom (`min[1]`), top.
@@ -221,7 +245,7 @@ impl WallSums {
         }
     }
 
-    /// Merges another set of sums.
+    /// Merges another set of sums (exactly, as [`ExactSum::merge`]).
     pub fn merge(&mut self, other: &WallSums) {
         for (mine, theirs) in self.walls.iter_mut().zip(&other.walls) {
             mine.merge(theirs);
@@ -229,7 +253,7 @@ impl WallSums {
         self.friction.merge(&other.friction);
     }
 
-    /// The totals as a [`crate::WallImpulse`].
+    /// The totals as a [`crate::WallImpulse`]. See [`StepSums`] for an example.
     pub fn impulse(&self) -> crate::WallImpulse {
         let [left, right, bottom, top] = [0, 1, 2, 3].map(|k| self.walls[k].value());
         crate::WallImpulse {
@@ -245,6 +269,22 @@ impl WallSums {
 /// every resolved pair of every substep and pass, and the walls' impulses. In a distributed
 /// run each rank sums the events it is responsible for ([`crate::World::set_tally`]) and the
 /// ranks' sums are merged: the totals equal one process's, bit for bit.
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, World};
+/// let mut world = World::new(Config {
+///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+///     ..Config::default()
+/// })?;
+/// // Mass 0.5 (the seed's mass = radius) at speed 2 into the right wall: m |Δv| = 2.
+/// world.add_particle(Particle::new([9.0, 5.0], [2.0, 0.0], 0.5))?;
+/// world.step(1.0)?;
+/// let sums = world.step_sums();
+/// assert_eq!(sums.walls.impulse().right, 2.0);
+/// assert_eq!(sums.walls.impulse(), world.stats().wall_impulse);
+/// assert_eq!((sums.virial.value(), sums.friction_work()), (0.0, 0.0)); // no pair, smooth
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StepSums {
     /// `Σ r_ij · Δp_ij` (the step's [`crate::StepStats::virial`] is half of it over `dt`).
@@ -258,7 +298,7 @@ pub struct StepSums {
 
 impl StepSums {
     /// The energy friction and rolling resistance removed in the step, everywhere
-    /// ([`crate::StepStats::friction_work`]).
+    /// ([`crate::StepStats::friction_work`]). See [`StepSums`] for an example.
     pub fn friction_work(&self) -> f64 {
         let mut all = self.friction.clone();
         all.merge(&self.walls.friction);

@@ -5,6 +5,21 @@
 use serde::{Deserialize, Serialize};
 
 /// The shape of an obstacle.
+///
+/// ```
+/// use bounce::{Motion, Obstacle, Shape};
+/// let board = Obstacle::peg([5.0, 5.0], 1.0).with_restitution(0.5).with_friction(0.2);
+/// assert_eq!(board.shape, Shape::Peg { centre: [5.0, 5.0], radius: 1.0 });
+/// assert_eq!((board.restitution, board.friction), (Some(0.5), Some(0.2)));
+/// // A closed triangle is three segments; a box four, here turned a quarter turn.
+/// assert_eq!(Obstacle::polyline(&[[0.0, 0.0], [4.0, 0.0], [0.0, 3.0]], true).len(), 3);
+/// let sides = Obstacle::rectangle([0.0, 0.0], [4.0, 2.0], std::f64::consts::FRAC_PI_2);
+/// assert_eq!(sides.len(), 4);
+/// // A piston: a segment moving up; `shifted` is where it is after moving by an offset.
+/// let piston = Obstacle::segment([0.0, 0.0], [10.0, 0.0]).moving(Motion::Velocity([0.0, 1.0]));
+/// assert_eq!(piston.motion, Motion::Velocity([0.0, 1.0]));
+/// assert_eq!(piston.shifted([0.0, 2.0]), Shape::Segment { a: [0.0, 2.0], b: [10.0, 2.0] });
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Shape {
@@ -25,7 +40,7 @@ pub enum Shape {
     },
 }
 
-/// How an obstacle moves.
+/// How an obstacle moves. See [`Shape`] and [`crate::World::obstacle_states`] for examples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Motion {
@@ -80,17 +95,18 @@ pub struct Obstacle {
 }
 
 impl Obstacle {
-    /// A fixed segment from `a` to `b`.
+    /// A fixed segment from `a` to `b`. See [`Shape`] for an example.
     pub fn segment(a: [f64; 2], b: [f64; 2]) -> Obstacle {
         Obstacle::from(Shape::Segment { a, b })
     }
 
-    /// A fixed peg.
+    /// A fixed peg. See [`Shape`] for an example.
     pub fn peg(centre: [f64; 2], radius: f64) -> Obstacle {
         Obstacle::from(Shape::Peg { centre, radius })
     }
 
-    /// The segments joining consecutive `points` (closed: back to the first as well).
+    /// The segments joining consecutive `points` (closed: back to the first as well). See [`Shape`]
+    /// for an example.
     pub fn polyline(points: &[[f64; 2]], closed: bool) -> Vec<Obstacle> {
         let mut out: Vec<Obstacle> = points
             .windows(2)
@@ -103,7 +119,7 @@ impl Obstacle {
     }
 
     /// The four sides of a box of `size` centred at `centre`, rotated by `angle` radians
-    /// (counter-clockwise).
+    /// (counter-clockwise). See [`Shape`] for an example.
     pub fn rectangle(centre: [f64; 2], size: [f64; 2], angle: f64) -> Vec<Obstacle> {
         let (s, c) = (libm::sin(angle), libm::cos(angle));
         let [hx, hy] = [size[0] / 2.0, size[1] / 2.0];
@@ -117,7 +133,7 @@ impl Obstacle {
         Obstacle::polyline(&corners, true)
     }
 
-    /// This obstacle with its own restitution.
+    /// This obstacle with its own restitution. See [`Shape`] for an example.
     pub fn with_restitution(self, restitution: f64) -> Obstacle {
         Obstacle {
             restitution: Some(restitution),
@@ -125,7 +141,7 @@ impl Obstacle {
         }
     }
 
-    /// This obstacle with its own friction coefficient.
+    /// This obstacle with its own friction coefficient. See [`Shape`] for an example.
     pub fn with_friction(self, friction: f64) -> Obstacle {
         Obstacle {
             friction: Some(friction),
@@ -133,12 +149,12 @@ impl Obstacle {
         }
     }
 
-    /// This obstacle moving as `motion` says.
+    /// This obstacle moving as `motion` says. See [`Shape`] for an example.
     pub fn moving(self, motion: Motion) -> Obstacle {
         Obstacle { motion, ..self }
     }
 
-    /// The shape moved by `offset`.
+    /// The shape moved by `offset`. See [`Shape`] for an example.
     pub fn shifted(&self, offset: [f64; 2]) -> Shape {
         let add = |p: [f64; 2]| [p[0] + offset[0], p[1] + offset[1]];
         match self.shape {
@@ -232,7 +248,8 @@ impl From<Shape> for Obstacle {
 }
 
 /// Where a moving obstacle is and how fast it goes: its offset from the configured shape
-/// and its velocity. Part of the world's saved state.
+/// and its velocity. Part of the world's saved state. See
+/// [`crate::World::obstacle_states`] for an example.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ObstacleState {
     /// Displacement from the configured shape.
