@@ -23,7 +23,7 @@ use crate::part::Tally;
 use crate::particles::{ParticleId, Particles};
 use crate::resolve::PairResolved;
 
-/// Whether a contact began or ended.
+/// Whether a contact began or ended. See [`ContactEvent`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactKind {
@@ -34,7 +34,7 @@ pub enum ContactKind {
 }
 
 impl ContactKind {
-    /// `"begin"` or `"end"`.
+    /// `"begin"` or `"end"`. See [`ContactEvent`] for an example.
     pub fn name(self) -> &'static str {
         match self {
             ContactKind::Begin => "begin",
@@ -43,7 +43,7 @@ impl ContactKind {
     }
 }
 
-/// One of the box's four walls.
+/// One of the box's four walls. See [`ContactEvent`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WallSide {
@@ -66,7 +66,7 @@ impl WallSide {
         WallSide::Top,
     ];
 
-    /// `"left"`, `"right"`, `"bottom"` or `"top"`.
+    /// `"left"`, `"right"`, `"bottom"` or `"top"`. See [`ContactEvent`] for an example.
     pub fn name(self) -> &'static str {
         match self {
             WallSide::Left => "left",
@@ -76,7 +76,8 @@ impl WallSide {
         }
     }
 
-    /// The wall's unit normal out of the box (from a disc into the wall).
+    /// The wall's unit normal out of the box (from a disc into the wall). See
+    /// [`ContactEvent`] for an example.
     pub fn outward(self) -> [f64; 2] {
         match self {
             WallSide::Left => [-1.0, 0.0],
@@ -87,7 +88,8 @@ impl WallSide {
     }
 }
 
-/// The second party of a contact; the first is always a disc.
+/// The second party of a contact; the first is always a disc. See [`ContactEvent`] for an
+/// example.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Party {
@@ -109,6 +111,26 @@ pub enum Party {
 /// model conserves momentum. `approach_speed` is how fast `a` moved towards `b` along the
 /// normal before (negative when they were separating). An `end` event carries the point
 /// and normal of the contact's last substep and no impulse or speed.
+///
+/// ```
+/// use bounce::{Boundary, Config, ContactKind, Party, Particle, WallSide, World};
+/// let mut world = World::new(Config {
+///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+///     contact_events: true,
+///     ..Config::default()
+/// })?;
+/// // Mass 1 at speed 2 into the right wall: the wall gives it an impulse of 4.
+/// world.add_particle(Particle::new([8.5, 5.0], [2.0, 0.0], 1.0))?;
+/// world.step(0.5)?;
+/// let e = world.contact_events()[0];
+/// assert_eq!((e.kind, e.b), (ContactKind::Begin, Party::Wall(WallSide::Right)));
+/// assert_eq!((e.kind.name(), e.b, WallSide::Right.name()), ("begin", e.b, "right"));
+/// assert_eq!((e.point, e.normal), ([10.0, 5.0], WallSide::Right.outward()));
+/// assert_eq!((e.normal_impulse, e.approach_speed), (4.0, 2.0));
+/// assert_eq!(e.numbers(), [10.0, 5.0, 1.0, 0.0, 4.0, 0.0, 2.0]);
+/// assert_eq!(e.time(world.time(), 0.5, 1), 0.5); // its substep ended with the step
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactEvent {
     /// Began or ended.
@@ -134,7 +156,7 @@ pub struct ContactEvent {
 
 impl ContactEvent {
     /// When its substep ended, in a step of `dt` in `substeps` that ended at `step_end`
-    /// (`World::time()` after the step).
+    /// (`World::time()` after the step). See [`ContactEvent`] for an example.
     pub fn time(&self, step_end: f64, dt: f64, substeps: u32) -> f64 {
         let substeps = substeps.max(1);
         let left = substeps.saturating_sub(1 + self.substep) as f64;
@@ -142,7 +164,7 @@ impl ContactEvent {
     }
 
     /// Its numbers in `events.csv`'s order: the point (x, y), the normal (x, y), the normal
-    /// and tangential impulses and the approach speed.
+    /// and tangential impulses and the approach speed. See [`ContactEvent`] for an example.
     pub fn numbers(&self) -> [f64; 7] {
         [
             self.point[0],
@@ -193,12 +215,13 @@ pub struct ContactLog {
 }
 
 impl ContactLog {
-    /// An empty log.
+    /// An empty log. See [`ContactLog::record_step`] for an example.
     pub fn new() -> ContactLog {
         ContactLog::default()
     }
 
-    /// The last step's events, substep by substep, each substep's by `(a, b)`.
+    /// The last step's events, substep by substep, each substep's by `(a, b)`. See
+    /// [`ContactLog::record_step`] for an example.
     pub fn events(&self) -> &[ContactEvent] {
         &self.events
     }

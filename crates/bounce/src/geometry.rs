@@ -19,7 +19,8 @@ use crate::law::{Law, MAX_INTERACTION_DIAMETER, hold};
 use crate::particles::{Particle, ParticleError};
 
 /// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
-/// Divide by the elapsed time and the wall's length for the pressure.
+/// Divide by the elapsed time and the wall's length for the pressure. See
+/// [`crate::StepSums`] for an example.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WallImpulse {
     /// The wall at `min[0]`.
@@ -33,7 +34,7 @@ pub struct WallImpulse {
 }
 
 impl WallImpulse {
-    /// Sum over the four walls.
+    /// Sum over the four walls. See [`crate::StepStats`] for an example.
     pub fn total(&self) -> f64 {
         self.left + self.right + self.bottom + self.top
     }

@@ -8,6 +8,24 @@ use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
 
 /// Measurements of the last [`crate::World::step`].
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, World};
+/// let mut world = World::new(Config {
+///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+///     ..Config::default()
+/// })?;
+/// world.add_particle(Particle::new([3.0, 5.0], [1.0, 0.0], 1.0))?;
+/// world.add_particle(Particle::new([5.5, 5.0], [-1.0, 0.0], 1.0))?;
+/// let stats = *world.step(0.3)?; // they meet head-on and swap velocities
+/// assert_eq!((stats.collisions, stats.pairs, stats.substeps), (1, 1, 1));
+/// assert_eq!(stats.kinetic_energy, 1.0); // ½ · 1 · 1 twice: kept
+/// assert_eq!(stats.momentum, [0.0, 0.0]);
+/// assert_eq!(stats.wall_impulse.total(), 0.0);
+/// assert!(stats.pressure.is_some() && stats.virial > 0.0);
+/// assert!(world.profile().total() >= 0.0); // wall-clock seconds of its stages
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepStats {
     /// Total kinetic energy `Σ ½ m v²` after the step, with the active mass model.
@@ -88,7 +106,7 @@ impl StepStats {
 }
 
 /// Wall-clock seconds spent in each stage of the last step, summed over its substeps.
-/// All zero on `wasm32`, which has no clock in `std`.
+/// All zero on `wasm32`, which has no clock in `std`. See [`StepStats`] for an example.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepProfile {
     /// Integration: gravity, drift and the walls.
@@ -121,7 +139,7 @@ pub struct StepProfile {
 }
 
 impl StepProfile {
-    /// Total over the stages.
+    /// Total over the stages. See [`StepStats`] for an example.
     pub fn total(&self) -> f64 {
         self.integrate
             + self.bin

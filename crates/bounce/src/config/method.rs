@@ -6,6 +6,18 @@ use serde::{Deserialize, Serialize};
 use super::{Boundary, Config, Motion, RestingContacts};
 
 /// How [`crate::World::step`] advances the world.
+///
+/// ```
+/// use bounce::{Config, Method};
+/// let exact = Config { method: Method::EventDriven, ..Config::default() };
+/// assert_eq!(exact.method.name(), "event_driven");
+/// assert_eq!(exact.event_driven_unsupported(), None);
+/// let stepped = Config { substeps: 4, ..exact };
+/// assert_eq!(
+///     stepped.event_driven_unsupported(),
+///     Some("cannot be combined with substeps > 1 (events are exact)")
+/// );
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
@@ -22,7 +34,8 @@ pub enum Method {
 }
 
 impl Method {
-    /// The name scenario files and Python use: `time_stepped` or `event_driven`.
+    /// The name scenario files and Python use: `time_stepped` or `event_driven`. See
+    /// [`Method`] for an example.
     pub fn name(self) -> &'static str {
         match self {
             Method::TimeStepped => "time_stepped",
@@ -33,7 +46,8 @@ impl Method {
 
 impl Config {
     /// What in this configuration the event-driven method cannot do (`None`: it can do it
-    /// all), as the end of a sentence that starts "the event-driven method".
+    /// all), as the end of a sentence that starts "the event-driven method". See [`Method`]
+    /// for an example.
     pub fn event_driven_unsupported(&self) -> Option<&'static str> {
         if self.substeps != 1 {
             return Some("cannot be combined with substeps > 1 (events are exact)");

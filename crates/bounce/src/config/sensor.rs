@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Where a sensor looks.
+/// Where a sensor looks. See [`Region::contains`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Region {
@@ -86,7 +86,7 @@ pub struct Sensor {
 }
 
 impl Sensor {
-    /// A sensor called `name` over `region`.
+    /// A sensor called `name` over `region`. See [`Sensor`] for an example.
     pub fn new(name: impl Into<String>, region: Region) -> Sensor {
         Sensor {
             name: name.into(),

@@ -44,7 +44,8 @@ pub struct Emitter {
 }
 
 impl Emitter {
-    /// Discs of `radius` at rest in `[min, max]`, none yet (rate 0; set the rate).
+    /// Discs of `radius` at rest in `[min, max]`, none yet (rate 0; set the rate). See
+    /// [`Emitter`] for an example.
     pub fn new(min: [f64; 2], max: [f64; 2], radius: f64) -> Emitter {
         Emitter {
             min,
@@ -83,6 +84,19 @@ impl Emitter {
 }
 
 /// Removes discs whose centre enters a rectangle.
+///
+/// ```
+/// use bounce::{Config, Particle, Sink, World};
+/// let drain = Sink { min: [4.0, -1.0], max: [6.0, 1.0] };
+/// assert!(drain.contains([5.0, 0.0]) && !drain.contains([7.0, 0.0]));
+/// let mut world = World::new(Config { sinks: vec![drain], ..Config::default() })?;
+/// world.add_particle(Particle::new([0.0, 0.0], [10.0, 0.0], 0.5))?;
+/// for _ in 0..50 {
+///     world.step(0.01)?;
+/// }
+/// assert_eq!(world.len(), 0); // taken when its centre crossed x = 4
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sink {
     /// Lower-left corner.
@@ -92,7 +106,7 @@ pub struct Sink {
 }
 
 impl Sink {
-    /// Whether `p` is inside.
+    /// Whether `p` is inside. See [`Sink`] for an example.
     #[inline]
     pub fn contains(&self, p: [f64; 2]) -> bool {
         p[0] >= self.min[0] && p[0] <= self.max[0] && p[1] >= self.min[1] && p[1] <= self.max[1]
@@ -115,7 +129,8 @@ pub(super) fn region_problem(min: [f64; 2], max: [f64; 2]) -> Option<(String, &'
     })
 }
 
-/// How far an emitter has got: part of the world's saved state.
+/// How far an emitter has got: part of the world's saved state. See
+/// [`crate::World::emitter_states`] for an example.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EmitterState {
     /// Discs it has added.

@@ -32,7 +32,8 @@ pub struct Thermostat {
 }
 
 impl Thermostat {
-    /// A thermostat of `kind` at `temperature` acting at `rate`, seed 0.
+    /// A thermostat of `kind` at `temperature` acting at `rate`, seed 0. See [`Thermostat`]
+    /// for an example.
     pub fn new(kind: ThermostatKind, temperature: f64, rate: f64) -> Self {
         Thermostat {
             kind,
@@ -61,7 +62,7 @@ impl Thermostat {
 }
 
 /// How a [`Thermostat`] acts, at the end of a step of `dt`, on discs of mass `m` (the mass
-/// model's).
+/// model's). See [`Thermostat`] and [`crate::World::thermostat_work`] for examples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ThermostatKind {
