@@ -37,11 +37,20 @@ pub const MAX_INTERACTION_DIAMETER: f64 = 1e150;
 /// [`Config`] once ([`Law::new`]).
 ///
 /// ```
-/// use bounce::{Config, law::Law};
+/// use bounce::{Config, law::{Body, Law}};
 /// let law = Law::new(&Config { collision_radius_scale: 1.2, ..Config::default() });
 /// assert_eq!(law.collision_distance(1.0, 1.0), 2.4);
+/// assert_eq!((law.reach(2.0), law.interaction_diameter(1.0)), (2.4, 2.4));
 /// assert!(law.is_colliding([2.3, 0.0], 1.0, 1.0));
 /// assert!(!law.is_colliding([2.5, 0.0], 1.0, 1.0));
+/// assert!((law.overlap([2.3, 0.0], 1.0, 1.0).unwrap() - 0.1).abs() < 1e-12);
+/// assert_eq!(law.mass(2.0, 7.0), 2.0); // the seed's mass = radius
+/// // The seed's steps 1–7 for a head-on pair of equal discs, e = 1: they swap velocities,
+/// // and the overlap (2.4 − 2.3 = 0.1) is pushed apart half each.
+/// let (a, b) = (Body::new([1.0, 0.0], 1.0, 1.0), Body::new([-1.0, 0.0], 1.0, 1.0));
+/// let out = law.for_pass(0).resolve([-2.3, 0.0], &a, &b);
+/// assert_eq!((out.v1, out.v2), ([-1.0, 0.0], [1.0, 0.0]));
+/// assert!((out.push[0] + 0.05).abs() < 1e-12 && out.approach == 2.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Law {
@@ -108,7 +117,7 @@ impl Law {
     }
 
     /// The restitution `e` of a wall or an obstacle as this law applies it: see
-    /// [`Restitution`].
+    /// [`Restitution`]. See there for an example.
     #[inline(always)]
     pub fn restitution_of(&self, e: f64) -> Restitution {
         Restitution {
@@ -120,40 +129,44 @@ impl Law {
     /// The centre distance within which two discs whose radii add up to `radius_sum`
     /// collide: `radius_sum * collision_radius_scale`. Every reach in the engine (pair
     /// collision distances, a disc's interaction diameter, grid cells, placement spacing) is
-    /// this of some sum of radii, so the detection law changes here alone.
+    /// this of some sum of radii, so the detection law changes here alone. See [`Law`] for
+    /// an example.
     #[inline(always)]
     pub fn reach(&self, radius_sum: f64) -> f64 {
         radius_sum * self.collision_radius_scale
     }
 
-    /// The seed's `collision_distance = (r1 + r2) * collision_radius_scale`.
+    /// The seed's `collision_distance = (r1 + r2) * collision_radius_scale`. See [`Law`] for
+    /// an example.
     #[inline(always)]
     pub fn collision_distance(&self, r1: f64, r2: f64) -> f64 {
         self.reach(r1 + r2)
     }
 
     /// The collision distance of two discs of radius `r`: how far a disc's influence
-    /// extends, what grid cells must hold.
+    /// extends, what grid cells must hold. See [`Law`] for an example.
     #[inline(always)]
     pub fn interaction_diameter(&self, r: f64) -> f64 {
         self.reach(2.0 * r)
     }
 
     /// The seed's detection rule, `distance <= collision_distance`, where `diff = p1 - p2`
-    /// (already the minimum image in a periodic box).
+    /// (already the minimum image in a periodic box). See [`Law`] for an example.
     #[inline(always)]
     pub fn is_colliding(&self, diff: [f64; 2], r1: f64, r2: f64) -> bool {
         self.overlap(diff, r1, r2).is_some()
     }
 
     /// The seed's detection rule with what it measured: `Some(overlap)`, the collision
-    /// distance less the distance (0 when touching), when the pair collides.
+    /// distance less the distance (0 when touching), when the pair collides. See [`Law`] for
+    /// an example.
     #[inline(always)]
     pub fn overlap(&self, diff: [f64; 2], r1: f64, r2: f64) -> Option<f64> {
         touching(diff, self.collision_distance(r1, r2))
     }
 
-    /// The mass of a disc of `radius` whose per-particle mass is `per_particle`.
+    /// The mass of a disc of `radius` whose per-particle mass is `per_particle`. See [`Law`]
+    /// for an example.
     #[inline(always)]
     pub fn mass(&self, radius: f64, per_particle: f64) -> f64 {
         self.mass_model.mass(radius, per_particle)
@@ -166,7 +179,7 @@ impl Law {
     /// every detected pair, a later pass would send two discs that had just met head on back
     /// into each other (they would lock), and apply the restitution once a pass. The push is
     /// the same in every pass (only while the pair overlaps), and a single pass is the
-    /// seed's.
+    /// seed's. See [`Law`] for an example.
     pub fn for_pass(&self, pass: u32) -> Law {
         if pass == 0 {
             *self
@@ -178,7 +191,8 @@ impl Law {
         }
     }
 
-    /// The seed's steps 1–7 for one detected pair: see [`resolve_pair`].
+    /// The seed's steps 1–7 for one detected pair: see [`resolve_pair`]. See [`Law`] for an
+    /// example.
     #[inline(always)]
     pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {
         resolve_pair(diff, a, b, self)
@@ -198,6 +212,16 @@ pub struct Restitution {
 
 impl Restitution {
     /// The restitution of a contact met at normal speed `speed` (`>= 0`).
+    ///
+    /// ```
+    /// use bounce::{Config, RestingContacts, law::Law};
+    /// let law = Law::at_substep(
+    ///     &Config { gravity: [0.0, -10.0], resting_contacts: RestingContacts::Rest, ..Config::default() },
+    ///     0.01,
+    /// );
+    /// let wall = law.restitution_of(0.8);
+    /// assert_eq!((wall.at(0.3), wall.at(5.0)), (0.0, 0.8)); // resting below 4 |g| h = 0.4
+    /// ```
     #[inline(always)]
     pub fn at(self, speed: f64) -> f64 {
         match self.rest_below {
@@ -217,6 +241,14 @@ pub const RESTING_SUBSTEPS: f64 = 4.0;
 /// The approach speed below which a detected pair is a resting contact, not an impact:
 /// [`RESTING_SUBSTEPS`] substeps `h` of gravity `g` (0 without gravity: every approaching
 /// pair is an impact).
+///
+/// ```
+/// use bounce::law::{is_impact, resting_speed};
+/// let rest = resting_speed([0.0, -9.81], 0.01); // 4 substeps of gravity's pull
+/// assert!((rest - 0.3924).abs() < 1e-12);
+/// assert!(is_impact(1.0, rest) && !is_impact(0.2, rest));
+/// assert!(is_impact(1e-9, resting_speed([0.0, 0.0], 0.01))); // no gravity: any approach
+/// ```
 #[inline]
 pub fn resting_speed(gravity: [f64; 2], h: f64) -> f64 {
     RESTING_SUBSTEPS * gravity[0].hypot(gravity[1]) * h
@@ -225,7 +257,7 @@ pub fn resting_speed(gravity: [f64; 2], h: f64) -> f64 {
 /// Whether a detected pair that approached at `approach` (the normal speed before the update,
 /// [`Resolution::approach`]) is an **impact**, which the step's `collisions` count, rather
 /// than a resting contact, which only its `contacts` count: it approached faster than
-/// `resting_speed`.
+/// `resting_speed`. See [`resting_speed`] for an example.
 #[inline(always)]
 pub fn is_impact(approach: f64, resting_speed: f64) -> bool {
     approach > resting_speed
@@ -237,13 +269,25 @@ pub fn is_impact(approach: f64, resting_speed: f64) -> bool {
 /// Every kernel asks this (or [`within`] on a distance it has, [`sqrt_limit`] and
 /// [`may_touch`], which answer from the squared distance): pairs, strays, the obstacles, the plain step. A NaN
 /// distance never collides.
+///
+/// ```
+/// use bounce::law::{may_touch, sqrt_limit, touching, within};
+/// assert_eq!(touching([3.0, 4.0], 6.0), Some(1.0)); // distance 5, reach 6: overlap 1
+/// assert_eq!(touching([3.0, 4.0], 5.0), Some(0.0)); // touching counts
+/// assert_eq!(touching([3.0, 4.0], 4.9), None);
+/// assert!(within(5.0, 5.0) && !within(f64::NAN, 5.0));
+/// // From the squared distance: a cheap screen, and the exact limit.
+/// assert!(may_touch(25.0, 5.0) && !may_touch(30.0, 5.0));
+/// assert!(25.0 <= sqrt_limit(5.0));
+/// ```
 #[inline(always)]
 pub fn touching(diff: [f64; 2], reach: f64) -> Option<f64> {
     let distance = (diff[0] * diff[0] + diff[1] * diff[1]).sqrt();
     within(distance, reach).then_some(reach - distance)
 }
 
-/// [`touching`] for a kernel that has the distance already (and needs it after).
+/// [`touching`] for a kernel that has the distance already (and needs it after). See
+/// [`touching`] for an example.
 #[inline(always)]
 pub fn within(distance: f64, reach: f64) -> bool {
     distance <= reach
@@ -251,7 +295,7 @@ pub fn within(distance: f64, reach: f64) -> bool {
 
 /// A screen before [`touching`]: `false` only where the squared distance `d2` rules a
 /// collision at `reach` out (a relative margin far wider than the rounding of `reach²`), so
-/// a kernel may skip the square root for most candidates.
+/// a kernel may skip the square root for most candidates. See [`touching`] for an example.
 #[inline(always)]
 pub fn may_touch(d2: f64, reach: f64) -> bool {
     d2 <= reach * reach * (1.0 + 1e-12)
@@ -260,7 +304,8 @@ pub fn may_touch(d2: f64, reach: f64) -> bool {
 /// The largest `d2` whose correctly rounded square root is at most `reach` (finite, `>= 0`):
 /// `d2 <= sqrt_limit(reach)` exactly when [`touching`] is `Some` for a squared distance
 /// `d2`, as the square root is monotone. A couple of steps of one unit in the last place
-/// from `reach²`. Kernels with one collision distance for every pair test with it.
+/// from `reach²`. Kernels with one collision distance for every pair test with it. See
+/// [`touching`] for an example.
 pub fn sqrt_limit(reach: f64) -> f64 {
     let mut limit = reach * reach;
     while limit.next_up().sqrt() <= reach {
