@@ -23,6 +23,15 @@ use crate::particles::ParticleId;
 /// Which events a part's sums count: those whose place (after wrapping into a periodic box)
 /// lies in a rectangle `[x0, x1) × [y0, y1)`. The parts' rectangles tile the world, so every
 /// event is counted once.
+///
+/// ```
+/// use bounce::{Tally, wrap_coordinate};
+/// // The left half of a periodic box [0, 10) × [0, 10): x in [0, 5), any y.
+/// let left = Tally::new([0.0, 5.0], [f64::NEG_INFINITY, f64::INFINITY], [Some((0.0, 10.0)), None]);
+/// assert!(left.counts(2.0, 7.0) && !left.counts(6.0, 7.0));
+/// assert!(left.counts(10.5, 0.0)); // wrapped to x = 0.5 first
+/// assert_eq!(wrap_coordinate(-1.0, 0.0, 10.0), 9.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tally {
     axes: [Span; 2],
@@ -47,7 +56,7 @@ impl Tally {
         }
     }
 
-    /// Whether an event at `(x, y)` is counted here.
+    /// Whether an event at `(x, y)` is counted here. See [`Tally`] for an example.
     #[inline]
     pub fn counts(&self, x: f64, y: f64) -> bool {
         [x, y].iter().zip(&self.axes).all(|(&v, span)| {
@@ -104,6 +113,17 @@ impl Travel {
 }
 
 /// One disc's whole state: what moves between the parts of a distributed world.
+///
+/// ```
+/// use bounce::{Config, DiscRecord, Particle, World};
+/// let mut world = World::new(Config::default())?;
+/// world.add_particle(Particle::new([1.0, 2.0], [3.0, 4.0], 0.5).with_tag(9))?;
+/// let record = world.record(0);
+/// let words = record.to_words();
+/// assert_eq!(words.len(), DiscRecord::WORDS);
+/// assert_eq!(DiscRecord::from_words(&words), record);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DiscRecord {
     /// Its id in the whole world.
@@ -127,11 +147,11 @@ pub struct DiscRecord {
 }
 
 impl DiscRecord {
-    /// How many `f64` words [`DiscRecord::to_words`] writes.
+    /// How many `f64` words [`DiscRecord::to_words`] writes. See [`DiscRecord`] for an example.
     pub const WORDS: usize = 12;
 
     /// The record as words (ids and image counts are exact in an `f64`; the tag travels as
-    /// its bits).
+    /// its bits). See [`DiscRecord`] for an example.
     pub fn to_words(&self) -> [f64; Self::WORDS] {
         [
             f64::from(self.id.0),
@@ -149,7 +169,7 @@ impl DiscRecord {
         ]
     }
 
-    /// The record [`DiscRecord::to_words`] wrote.
+    /// The record [`DiscRecord::to_words`] wrote. See [`DiscRecord`] for an example.
     pub fn from_words(w: &[f64]) -> DiscRecord {
         DiscRecord {
             id: ParticleId(w[0] as u32),

@@ -7,7 +7,7 @@ use crate::lanes::Lanes;
 
 use super::{COINCIDENT_NORMAL, Law};
 
-/// One side of a pair going into [`resolve_pair`].
+/// One side of a pair going into [`resolve_pair`]. See there (or [`Law`]) for an example.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Body {
     /// Velocity.
@@ -22,7 +22,7 @@ pub struct Body {
 }
 
 impl Body {
-    /// A body that does not spin.
+    /// A body that does not spin. See [`resolve_pair`] for an example.
     pub fn new(velocity: [f64; 2], radius: f64, mass: f64) -> Body {
         Body {
             velocity,
@@ -33,7 +33,7 @@ impl Body {
     }
 }
 
-/// What resolving a pair changes.
+/// What resolving a pair changes. See [`resolve_pair`] (or [`Law`]) for an example.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Resolution {
     /// Displacement of the first disc; the second moves by its negation (step 3, half each).

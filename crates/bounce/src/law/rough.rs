@@ -38,6 +38,16 @@
 use crate::lanes::Lanes;
 
 /// The rough discs' coefficients, as [`super::Law`] holds them (see the module docs).
+///
+/// ```
+/// use bounce::{Config, law::Law};
+/// let law = Law::new(&Config { friction: 0.5, wall_friction: Some(0.0), ..Config::default() });
+/// let rough = law.rough.unwrap(); // smooth discs (the seed's) have none
+/// assert!(rough.rubs_pairs() && !rough.rubs_walls());
+/// assert!(rough.rubs_with(0.5) && !rough.rubs_with(0.0));
+/// assert_eq!(rough.inertia(2.0, 3.0), 0.5 * 2.0 * 9.0); // a uniform disc, k = ½
+/// assert!(Law::new(&Config::default()).rough.is_none());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rough {
     /// Coulomb's `μ` of disc–disc contacts.
@@ -54,24 +64,28 @@ pub struct Rough {
 
 impl Rough {
     /// Whether disc–disc contacts do anything beyond the seed's update.
+    /// See [`Rough`] for an example.
     #[inline]
     pub fn rubs_pairs(&self) -> bool {
         self.rubs_with(self.friction)
     }
 
     /// Whether the walls of the box do anything beyond the seed's bounce.
+    /// See [`Rough`] for an example.
     #[inline]
     pub fn rubs_walls(&self) -> bool {
         self.rubs_with(self.wall_friction)
     }
 
     /// Whether a contact of friction `friction` does anything beyond the normal update.
+    /// See [`Rough`] for an example.
     #[inline]
     pub fn rubs_with(&self, friction: f64) -> bool {
         friction > 0.0 || self.rolling_resistance > 0.0
     }
 
     /// The moment of inertia of a disc of mass `m` and radius `r`, `k m r²`.
+    /// See [`Rough`] for an example.
     #[inline(always)]
     pub fn inertia(&self, m: f64, r: f64) -> f64 {
         self.inertia_factor * m * r * r
