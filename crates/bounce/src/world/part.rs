@@ -14,6 +14,7 @@ use crate::contact_events::ContactLog;
 
 impl World {
     /// The record of the disc at storage index `i`.
+    /// See [`World::part`] for an example.
     pub fn record(&self, i: usize) -> DiscRecord {
         let p = self.particles();
         DiscRecord {
@@ -33,6 +34,45 @@ impl World {
     /// configuration, clock, last statistics, obstacles, sources and id counter: a part of
     /// this world, or (given every disc) the whole of a distributed one. Its candidates are
     /// listed at its first step; it runs on one thread until told otherwise.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, ExactSum, Particle, Tally, World};
+    /// let config = Config {
+    ///     boundary: Boundary::periodic([0.0, 0.0], [20.0, 20.0]),
+    ///     ..Config::default()
+    /// };
+    /// let mut whole = World::new(config)?;
+    /// for k in 0..100 {
+    ///     let (i, j, f) = ((k % 10) as f64, (k / 10) as f64, k as f64);
+    ///     let v = [(0.7 * f).sin(), (1.3 * f).cos()];
+    ///     whole.add_particle(Particle::new([1.0 + 2.0 * i, 1.0 + 2.0 * j], v, 0.9))?;
+    /// }
+    /// let records: Vec<_> = (0..whole.len()).map(|i| whole.record(i)).collect();
+    /// // Two parts holding every disc, each counting the events in its half of the box.
+    /// let mut parts = Vec::new();
+    /// for x in [[0.0, 10.0], [10.0, 20.0]] {
+    ///     let mut part = whole.part(&records)?;
+    ///     let all = [f64::NEG_INFINITY, f64::INFINITY];
+    ///     part.set_tally(Some(Tally::new(x, all, [Some((0.0, 20.0)), None])));
+    ///     parts.push(part);
+    /// }
+    /// let mut total = 0;
+    /// for _ in 0..20 {
+    ///     whole.step(0.05)?;
+    ///     let (mut virial, mut collisions) = (ExactSum::new(), 0);
+    ///     for part in &mut parts {
+    ///         part.step(0.05)?;
+    ///         virial.merge(&part.step_sums().virial);
+    ///         collisions += part.stats().collisions;
+    ///     }
+    ///     // Between them the parts count every event once: the whole's sums, to the bit.
+    ///     assert_eq!(collisions, whole.stats().collisions);
+    ///     total += collisions;
+    ///     assert_eq!(virial.value().to_bits(), whole.step_sums().virial.value().to_bits());
+    /// }
+    /// assert!(total > 10, "{total} collisions");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn part(&self, records: &[DiscRecord]) -> Result<World, WorldError> {
         let mut part = World::new(self.config().clone())?;
         part.adopt_clock(self);
@@ -134,6 +174,7 @@ impl World {
 impl World {
     /// Counts only the events in `tally`'s region in the step's sums (`None`: all): for a
     /// part of a distributed world, see [`Tally`].
+    /// See [`World::part`] for an example.
     pub fn set_tally(&mut self, tally: Option<Tally>) {
         self.tally = tally;
     }
@@ -228,6 +269,7 @@ impl World {
     }
 
     /// The exact sums of the last step (see [`StepSums`]).
+    /// See [`World::part`] for an example.
     pub fn step_sums(&self) -> &StepSums {
         &self.sums
     }
