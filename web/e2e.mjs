@@ -2,13 +2,9 @@
 // object for crates/bounce-web/tests/browser.rs to check. Usage: node e2e.mjs URL SCREENSHOT.png
 // MODE where MODE is "webgl" (the viewer), "fallback" (the 2D canvas page), "fallback-scenario"
 // (the 2D canvas with ?scenario=mixing) or "fps".
-import { chromium } from "playwright-core";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join } from "node:path";
+import { open, sleep } from "./chromium.mjs";
 
 const [url, screenshot, mode] = process.argv.slice(2);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const stepOf = (status) => Number(/step (\d+)/.exec(status)[1]);
 // Waits (up to a minute: a cold headless Chromium renders the first frames slowly) until the
 // status of `window[api]` says the simulation is past step `n`.
@@ -22,20 +18,7 @@ const pastStep = (page, api, n) =>
     { timeout: 60000 },
   );
 
-const profile = mkdtempSync(join(tmpdir(), "bounce-chromium-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: "/usr/bin/chromium",
-  headless: true,
-  viewport: { width: 1280, height: 800 },
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--no-first-run", "--disable-quic",
-  ],
-});
-const page = context.pages()[0] || (await context.newPage());
-const errors = [];
-page.on("pageerror", (e) => errors.push(String(e)));
+const { page, errors, close } = await open({ width: 1280, height: 800 });
 const result = { mode, errors };
 try {
   if (mode === "webgl") {
@@ -126,6 +109,5 @@ try {
 } catch (e) {
   result.error = String(e);
 }
-await context.close();
-rmSync(profile, { recursive: true, force: true });
+await close();
 console.log(JSON.stringify(result));

@@ -2,28 +2,10 @@
 // with the app exposed), runs every cell, presses the bounce view's play button, counts the
 // steps the kernel sends for SECONDS, pauses, and prints one JSON object.
 // Usage: node jupyter-e2e.mjs URL NOTEBOOK SCREENSHOT.png SECONDS
-import { chromium } from "playwright-core";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join } from "node:path";
+import { open, sleep } from "./chromium.mjs";
 
 const [url, notebook, screenshot, seconds = "5"] = process.argv.slice(2);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const profile = mkdtempSync(join(tmpdir(), "bounce-jupyter-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: "/usr/bin/chromium",
-  headless: true,
-  viewport: { width: 1400, height: 1000 },
-  deviceScaleFactor: 1,
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--no-first-run", "--disable-quic",
-  ],
-});
-const page = context.pages()[0] || (await context.newPage());
-const errors = [];
-page.on("pageerror", (e) => errors.push(String(e)));
+const { page, errors, close } = await open({ width: 1400, height: 1000 });
 const result = { errors };
 const stepOf = (text) => Number(/step (\d+)/.exec(text)[1]);
 // The notebook's kernel is up and not running a cell.
@@ -69,6 +51,5 @@ try {
   result.error = String(e);
   await page.screenshot({ path: screenshot }).catch(() => {});
 }
-await context.close();
-rmSync(profile, { recursive: true, force: true });
+await close();
 console.log(JSON.stringify(result));

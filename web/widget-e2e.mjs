@@ -4,29 +4,10 @@
 // Usage: node widget-e2e.mjs URL SCREENSHOT.png MODE [RENDERER], MODE one of "render" (draw
 // one frame and screenshot it), "controls" (play, pause, step) or "fps" (frames drawn a
 // second while playing, the stand-in kernel answering each request at once).
-import { chromium } from "playwright-core";
-import { mkdtempSync, rmSync } from "node:fs";
-import { tmpdir } from "node:os";
-import { join } from "node:path";
+import { open, sleep } from "./chromium.mjs";
 
 const [url, screenshot, mode, renderer = "auto"] = process.argv.slice(2);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const profile = mkdtempSync(join(tmpdir(), "bounce-widget-"));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: "/usr/bin/chromium",
-  headless: true,
-  viewport: { width: 1100, height: 900 },
-  deviceScaleFactor: 1,
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--no-first-run", "--disable-quic",
-  ],
-});
-const page = context.pages()[0] || (await context.newPage());
-const errors = [];
-page.on("pageerror", (e) => errors.push(String(e)));
-page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+const { page, errors, close } = await open({ width: 1100, height: 900, consoleErrors: true });
 const result = { mode, errors };
 const draws = () => page.evaluate(() => window.harness.el.bounce.draws);
 const status = () => page.evaluate(() => window.harness.el.querySelector(".bounce-status").textContent);
@@ -80,6 +61,5 @@ try {
 } catch (e) {
   result.error = String(e);
 }
-await context.close();
-rmSync(profile, { recursive: true, force: true });
+await close();
 console.log(JSON.stringify(result));
