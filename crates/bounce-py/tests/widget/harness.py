@@ -58,22 +58,27 @@ class _Quiet(http.server.SimpleHTTPRequestHandler):
         pass
 
 
-def drive(url, screenshot, mode, renderer="auto"):
-    """Runs web/widget-e2e.mjs and returns its JSON report."""
-    script = ROOT / "web" / "widget-e2e.mjs"
+def node(script, *args, timeout=240):
+    """Runs ``web/SCRIPT`` under node (playwright-core in web/node_modules, Debian's
+    Chromium) and returns the JSON report its last line prints."""
     if not (ROOT / "web" / "node_modules" / "playwright-core").exists():
         raise RuntimeError("web/node_modules lacks playwright-core: scripts/test installs it")
     if shutil.which("node") is None or not pathlib.Path("/usr/bin/chromium").exists():
         raise RuntimeError("node and /usr/bin/chromium are needed: scripts/test installs them")
     done = subprocess.run(
-        ["node", str(script), url, str(screenshot), mode, renderer],
+        ["node", str(ROOT / "web" / script), *map(str, args)],
         cwd=ROOT / "web",
         capture_output=True,
         text=True,
-        timeout=240,
+        timeout=timeout,
     )
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def drive(url, screenshot, mode, renderer="auto"):
+    """Runs web/widget-e2e.mjs (the harness page) and returns its report."""
+    return node("widget-e2e.mjs", url, screenshot, mode, renderer)
 
 
 @contextlib.contextmanager
@@ -120,15 +125,7 @@ def jupyterlab(folder):
 
 def drive_jupyterlab(url, notebook, screenshot, seconds=5):
     """Runs web/jupyter-e2e.mjs on ``notebook`` (a path under the server's folder)."""
-    done = subprocess.run(
-        ["node", str(ROOT / "web" / "jupyter-e2e.mjs"), url, notebook, str(screenshot), str(seconds)],
-        cwd=ROOT / "web",
-        capture_output=True,
-        text=True,
-        timeout=400,
-    )
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    return node("jupyter-e2e.mjs", url, notebook, screenshot, seconds, timeout=400)
 
 
 def notebook(path, setup):
