@@ -8,14 +8,18 @@ use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::config::Config;
 use crate::config::ObstacleState;
-use crate::config::{Boundary, Config};
 use crate::geometry::Geometry;
 use crate::law::Law;
 use crate::obstacles::Obstacles;
 use crate::particles::Particle;
 
-/// How a generator sets velocities.
+mod bench;
+
+pub use bench::{Bench, gas_in_walls};
+
+/// How a generator sets velocities. See [`Gas`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Speeds {
@@ -30,6 +34,33 @@ pub enum Speeds {
 
 /// A random gas: `count` discs with radii uniform in `radius`, centres uniform in the region
 /// with no two discs within the collision distance, velocities from `speeds` plus `drift`.
+///
+/// ```
+/// use bounce::scene::{self, Gas, Speeds};
+/// use bounce::{Boundary, Config, World};
+/// let config = Config {
+///     boundary: Boundary::periodic([0.0, 0.0], [40.0, 40.0]),
+///     ..Config::default()
+/// };
+/// let spec = Gas {
+///     count: 300,
+///     radius: [0.5, 0.5],
+///     region: None, // the whole box
+///     speeds: Speeds::Temperature(1.0),
+///     drift: [0.0, 0.0],
+///     seed: 7,
+/// };
+/// let mut discs = scene::gas(&spec, &config)?;
+/// assert_eq!(discs, scene::gas(&spec, &config)?); // the same seed, the same discs
+/// // A second species placed clear of the first.
+/// let small = Gas { count: 100, radius: [0.2, 0.2], seed: 8, ..spec.clone() };
+/// discs.extend(scene::gas_among(&small, &config, &discs)?);
+/// scene::zero_momentum(&mut discs, &config, [0.0, 0.0]);
+/// let mut world = World::new(config)?;
+/// world.add_particles(discs).unwrap();
+/// assert!(world.colliding_pairs().is_empty() && world.stats().momentum[0].abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Gas {
     /// Number of discs.
@@ -47,6 +78,19 @@ pub struct Gas {
 }
 
 /// A rectangular lattice of equal discs with one common velocity.
+///
+/// ```
+/// use bounce::scene::{Lattice, lattice};
+/// let discs = lattice(&Lattice {
+///     origin: [1.0, 1.0],
+///     spacing: [2.0, 3.0],
+///     counts: [4, 2],
+///     radius: 0.5,
+///     velocity: [1.0, 0.0],
+/// });
+/// assert_eq!(discs.len(), 8);
+/// assert_eq!((discs[0].position, discs[7].position), ([1.0, 1.0], [7.0, 4.0])); // row by row
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Lattice {
     /// Centre of the first disc.
@@ -62,6 +106,26 @@ pub struct Lattice {
 }
 
 /// Why a generator could not produce its discs.
+///
+/// ```
+/// use bounce::scene::{self, Gas, SceneError, Speeds};
+/// use bounce::{Boundary, Config};
+/// let config = Config { boundary: Boundary::walls([0.0, 0.0], [5.0, 5.0]), ..Config::default() };
+/// let crowd = Gas {
+///     count: 1000,
+///     radius: [0.5, 0.5],
+///     region: None,
+///     speeds: Speeds::Fixed(1.0),
+///     drift: [0.0, 0.0],
+///     seed: 1,
+/// };
+/// assert!(matches!(scene::gas(&crowd, &config), Err(SceneError::CannotPlace { .. })));
+/// // `packed_gas` starts discs on a lattice instead: dense packings random placement
+/// // cannot reach (here 40 discs, packing 0.31, in a box twice the size).
+/// let roomy = Config { boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]), ..config };
+/// assert_eq!(scene::packed_gas(&Gas { count: 40, ..crowd }, &roomy, &[])?.len(), 40);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum SceneError {
     /// Random placement ran out of attempts.
@@ -98,11 +162,12 @@ fn invalid(field: &'static str, value: String, expected: &'static str) -> SceneE
 }
 
 /// Places a random gas for `config`. Fails if the spec is invalid or the discs do not fit.
+/// See [`Gas`] for an example.
 pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
     gas_among(spec, config, &[])
 }
 
-/// The most discs one generator places.
+/// The most discs one generator places: a larger `count` is refused as a [`SceneError`].
 pub const MAX_GAS_COUNT: u64 = 1 << 40;
 
 /// A rectangle: lower-left and upper-right corners.
@@ -461,89 +526,6 @@ pub fn spin(discs: &mut [Particle], spin: f64, seed: u64) {
     }
 }
 
-/// A square walled box sized so `count` discs with radii uniform in `radius` fill
-/// `packing` of its area, and a gas in it: the benchmark scenes' setup.
-pub fn gas_in_walls(
-    count: usize,
-    radius: [f64; 2],
-    packing: f64,
-    speeds: Speeds,
-    seed: u64,
-) -> Result<(Config, Vec<Particle>), SceneError> {
-    if !(packing > 0.0 && packing < 1.0) {
-        return Err(invalid("packing", packing.to_string(), "in (0, 1)"));
-    }
-    // Mean r² of a radius uniform in [a, b] is (a² + ab + b²) / 3.
-    let [a, b] = radius;
-    let mean_r2 = (a * a + a * b + b * b) / 3.0;
-    let side = (count as f64 * std::f64::consts::PI * mean_r2 / packing).sqrt();
-    let config = Config {
-        boundary: Boundary::walls([0.0, 0.0], [side, side]),
-        ..Config::default()
-    };
-    let discs = gas(
-        &Gas {
-            count,
-            radius,
-            region: None,
-            speeds,
-            drift: [0.0, 0.0],
-            seed,
-        },
-        &config,
-    )?;
-    Ok((config, discs))
-}
-
-/// The benchmark scenes, one definition for the harness (`bounce-bench`), the profiler
-/// (`examples/profile.rs`), the divan bench and the pinned hashes: a walled square box, discs
-/// at packing 0.3, dt = 1/60.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Bench {
-    /// Radius 0.5, velocity components uniform in [-2, 2], e = 1, one substep.
-    Gas,
-    /// The gas's start under gravity (0, -9.81), e = 0.7, 4 substeps.
-    Pile,
-    /// Radii uniform in [0.05, 5], otherwise the gas.
-    Poly,
-    /// The gas with components uniform in [-40, 40]: a step moves a disc about its radius.
-    Fast,
-}
-
-impl Bench {
-    /// Every scene.
-    pub const ALL: [Bench; 4] = [Bench::Gas, Bench::Pile, Bench::Poly, Bench::Fast];
-
-    /// The time step every scene runs at.
-    pub const DT: f64 = 1.0 / 60.0;
-
-    /// The configuration and the discs (in creation order) of `count` discs.
-    pub fn build(self, count: usize) -> Result<(Config, Vec<Particle>), SceneError> {
-        let (radius, speed) = match self {
-            Bench::Poly => ([0.05, 5.0], 2.0),
-            Bench::Fast => ([0.5, 0.5], 40.0),
-            Bench::Gas | Bench::Pile => ([0.5, 0.5], 2.0),
-        };
-        let (config, discs) = gas_in_walls(count, radius, 0.3, Speeds::Uniform(speed), 1)?;
-        let (gravity, coefficient_of_restitution, substeps) = self.physics();
-        let config = Config {
-            gravity,
-            coefficient_of_restitution,
-            substeps,
-            ..config
-        };
-        Ok((config, discs))
-    }
-
-    /// The scene's gravity, restitution and substeps per step.
-    pub fn physics(self) -> ([f64; 2], f64, u32) {
-        match self {
-            Bench::Pile => ([0.0, -9.81], 0.7, 4),
-            Bench::Gas | Bench::Poly | Bench::Fast => ([0.0, 0.0], 1.0, 1),
-        }
-    }
-}
-
 /// Two independent standard normal numbers (Box–Muller).
 fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
     // 1 - u is in (0, 1], so the logarithm is finite.
@@ -554,7 +536,7 @@ fn standard_normal_pair(rng: &mut Pcg64Mcg) -> [f64; 2] {
     [radius * libm::cos(angle), radius * libm::sin(angle)]
 }
 
-/// The discs of a lattice, row by row.
+/// The discs of a lattice, row by row. See [`Lattice`] for an example.
 pub fn lattice(spec: &Lattice) -> Vec<Particle> {
     let mut out = Vec::with_capacity(spec.counts[0] * spec.counts[1]);
     for j in 0..spec.counts[1] {
@@ -571,17 +553,26 @@ pub fn lattice(spec: &Lattice) -> Vec<Particle> {
 
 /// The 2D Maxwell–Boltzmann speed distribution (a Rayleigh distribution): the probability
 /// that a disc of mass `m` at temperature `kt` has speed at most `v`.
+///
+/// ```
+/// use bounce::scene::{maxwell_boltzmann_cdf, maxwell_boltzmann_pdf, temperature};
+/// // The most probable speed is √(kT/m), where the cdf is 1 − e^(−1/2).
+/// assert!((maxwell_boltzmann_cdf(1.0, 2.0, 2.0) - (1.0 - (-0.5f64).exp())).abs() < 1e-15);
+/// assert_eq!(maxwell_boltzmann_pdf(0.0, 2.0, 2.0), 0.0);
+/// assert_eq!(temperature(50.0, 100), 0.5); // ½ m v² = kT a disc in 2D
+/// ```
 pub fn maxwell_boltzmann_cdf(v: f64, kt: f64, m: f64) -> f64 {
     1.0 - (-m * v * v / (2.0 * kt)).exp()
 }
 
-/// Its density: `m v / kT · exp(-m v² / 2kT)`.
+/// Its density: `m v / kT · exp(-m v² / 2kT)`. See [`maxwell_boltzmann_cdf`] for an example.
 pub fn maxwell_boltzmann_pdf(v: f64, kt: f64, m: f64) -> f64 {
     m * v / kt * (-m * v * v / (2.0 * kt)).exp()
 }
 
 /// The temperature `kT` of `count` discs from their total kinetic energy (in the frame where
-/// the total momentum is zero): in 2D, equipartition gives `<½ m v²> = kT` per disc.
+/// the total momentum is zero): in 2D, equipartition gives `<½ m v²> = kT` per disc. See
+/// [`maxwell_boltzmann_cdf`] for an example.
 pub fn temperature(kinetic_energy: f64, count: usize) -> f64 {
     kinetic_energy / count.max(1) as f64
 }
