@@ -21,14 +21,13 @@
 //! stops with [`EventError::Stalled`], naming the discs and the time.
 
 mod calendar;
+mod error;
 mod grid;
 mod predict;
 mod resolve;
 mod schedule;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-use thiserror::Error;
 
 use crate::config::{Boundary, Config, Shape};
 use crate::geometry::{Geometry, MinImage, wrap};
@@ -37,56 +36,9 @@ use crate::particles::Particle;
 use calendar::Calendar;
 use grid::Grid;
 
-/// Why an event-driven world was refused or stopped.
-#[derive(Clone, Debug, PartialEq, Error)]
-pub enum EventError {
-    /// The configuration asks for what the event-driven engine does not do.
-    #[error("the event-driven method {0}")]
-    Unsupported(&'static str),
-    /// A disc is invalid or placed where it cannot be.
-    #[error("disc {0}: {1}")]
-    Disc(usize, String),
-    /// Two discs overlap: an event-driven world starts with every pair apart.
-    #[error("discs {0} and {1} overlap: the event-driven method needs every pair apart")]
-    Overlap(usize, usize),
-    /// Events kept coming without the clock moving (inelastic collapse, or a disc resting
-    /// on a wall or an obstacle under gravity).
-    #[error(
-        "the run cannot advance past t = {time}: discs {discs:?} collide endlessly there \
-         (inelastic collapse or a resting contact); set contact_duration (the TC model) or \
-         raise the restitution"
-    )]
-    Stalled {
-        /// Where the clock stuck.
-        time: f64,
-        /// The discs of the last events.
-        discs: Vec<usize>,
-    },
-    /// One interval took more events than it was allowed.
-    #[error(
-        "more than {events} events before t = {time} in one step: the world is observed too \
-         rarely for its collision rate (lower dt)"
-    )]
-    TooManyEvents {
-        /// The events processed.
-        events: u64,
-        /// Where it had got to.
-        time: f64,
-    },
-    /// The interrupt flag was set during the interval.
-    #[error("interrupted at t = {time}")]
-    Interrupted {
-        /// Where it had got to.
-        time: f64,
-    },
-}
+pub use error::{EventError, MAX_EVENTS_PER_DISC};
 
-/// Events per disc one step (of [`crate::World::step`]) may take before it is refused with
-/// [`EventError::TooManyEvents`]: far beyond a useful observation interval, well before a
-/// run that looks hung.
-pub const MAX_EVENTS_PER_DISC: u64 = 10_000;
-
-/// What the events over an interval added up to.
+/// What the events over an interval added up to. See [`EventDriven`] for an example.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Observed {
     /// Collisions of two discs resolved.
@@ -156,7 +108,29 @@ const NOTHING: Next = Next {
 /// gas has in a relative 1e-12 of its clock.
 const STALL_EVENTS: u32 = 1_000_000;
 
-/// A world of hard discs advanced event by event (see the module docs).
+/// A world of hard discs advanced event by event (see the module docs). Most runs use it
+/// through [`crate::World`] with [`crate::Method::EventDriven`].
+///
+/// ```
+/// use bounce::event::EventDriven;
+/// use bounce::{Boundary, Config, Method, Particle};
+/// let config = Config {
+///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
+///     method: Method::EventDriven,
+///     ..Config::default()
+/// };
+/// // Head-on at closing speed 2 across a gap of 2: they meet at t = 1 exactly and swap.
+/// let discs = [Particle::new([2.0, 5.0], [1.0, 0.0], 1.0), Particle::new([6.0, 5.0], [-1.0, 0.0], 1.0)];
+/// let mut engine = EventDriven::new(&config, &discs)?;
+/// let seen = engine.advance(1.5)?;
+/// assert_eq!((seen.collisions, engine.time()), (1, 1.5));
+/// assert_eq!(engine.state(0), ([2.5, 5.0], [-1.0, 0.0]));
+/// assert_eq!(engine.particles()[1].position, [5.5, 5.0]);
+/// assert_eq!(engine.wrapped(0), ([2.5, 5.0], [0, 0]));
+/// assert_eq!((engine.kinetic_energy(), engine.area()), (1.0, 100.0));
+/// assert!(engine.memory_bytes() > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct EventDriven {
     law: Law,
@@ -200,6 +174,7 @@ pub struct EventDriven {
 impl EventDriven {
     /// The discs `discs` (numbered in order) under `config`; no pair may overlap. Refuses
     /// what [`Config::event_driven_unsupported`] names.
+    /// See [`EventDriven`] for an example.
     pub fn new(config: &Config, discs: &[Particle]) -> Result<EventDriven, EventError> {
         if let Some(what) = config.event_driven_unsupported() {
             return Err(EventError::Unsupported(what));
@@ -400,12 +375,14 @@ impl EventDriven {
     }
 
     /// The time the world has been advanced to.
+    /// See [`EventDriven`] for an example.
     pub fn time(&self) -> f64 {
         self.now
     }
 
     /// Processes every event up to `now + dt` and brings every disc there; what the events
     /// added up to. Stops with [`EventError::Stalled`] where the clock cannot move.
+    /// See [`EventDriven`] for an example.
     pub fn advance(&mut self, dt: f64) -> Result<Observed, EventError> {
         self.advance_within(dt, u64::MAX, None)
     }
@@ -466,6 +443,7 @@ impl EventDriven {
     }
 
     /// Every disc now, in the order given (positions wrapped into a periodic box).
+    /// See [`EventDriven`] for an example.
     pub fn particles(&self) -> Vec<Particle> {
         (0..self.d.len())
             .map(|k| {
@@ -480,6 +458,7 @@ impl EventDriven {
     }
 
     /// Disc `k`'s (in the order given) centre and velocity now.
+    /// See [`EventDriven`] for an example.
     pub fn state(&self, k: usize) -> ([f64; 2], [f64; 2]) {
         let i = self.slot[k] as usize;
         (self.at(i, self.now), self.velocity(i, self.now))
@@ -487,6 +466,7 @@ impl EventDriven {
 
     /// Disc `k`'s (in the order given) centre now, wrapped into a periodic box, and the box
     /// widths it has been moved back by since the start (`[0, 0]` without a periodic box).
+    /// See [`EventDriven`] for an example.
     pub fn wrapped(&self, k: usize) -> ([f64; 2], [i32; 2]) {
         let i = self.slot[k] as usize;
         let mut p = self.at(i, self.now);
@@ -500,6 +480,7 @@ impl EventDriven {
     }
 
     /// `Σ ½ m v²`, summed in the order given.
+    /// See [`EventDriven`] for an example.
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.d.len())
             .map(|k| {
@@ -512,6 +493,7 @@ impl EventDriven {
 
     /// The bytes the engine holds for its discs, cells and calendar (what a disc costs:
     /// this over the count).
+    /// See [`EventDriven`] for an example.
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
         let n = self.d.capacity();
@@ -522,6 +504,7 @@ impl EventDriven {
     }
 
     /// The box's area (0 in an open world).
+    /// See [`EventDriven`] for an example.
     pub fn area(&self) -> f64 {
         self.size[0] * self.size[1]
     }
