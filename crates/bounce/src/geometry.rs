@@ -257,6 +257,14 @@ impl Geometry {
 impl Particle {
     /// Checks this particle against a (valid) config: finite values, and a place and size
     /// the boundary admits.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle};
+    /// let config = Config { boundary: Boundary::walls([0.0, 0.0], [4.0, 4.0]), ..Config::default() };
+    /// assert!(Particle::new([2.0, 2.0], [0.0, 0.0], 1.0).validate(&config).is_ok());
+    /// assert!(Particle::new([5.0, 2.0], [0.0, 0.0], 1.0).validate(&config).is_err()); // outside
+    /// assert!(Particle::new([2.0, 2.0], [0.0, 0.0], 3.0).validate(&config).is_err()); // too large
+    /// ```
     pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
         self.validate_values()?;
         let law = Law::new(config);

@@ -14,7 +14,7 @@
 use crate::geometry::Geometry;
 use crate::particles::{ParticleId, Particles};
 
-/// The first disc a ray enters ([`Queries::ray_cast`]).
+/// The first disc a ray enters ([`Queries::ray_cast`], which has an example).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayHit {
     /// The disc.
@@ -27,7 +27,8 @@ pub struct RayHit {
     pub normal: [f64; 2],
 }
 
-/// A snapshot of the discs binned for spatial queries. See the [module docs](self).
+/// A snapshot of the discs binned for spatial queries. See the [module docs](self), and
+/// [`crate::World::queries`] for an example.
 #[derive(Clone, Debug)]
 pub struct Queries {
     x: Vec<f64>,

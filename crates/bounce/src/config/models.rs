@@ -109,6 +109,29 @@ pub enum VelocityUpdate {
 /// other side) is at most the resting speed, 4 substeps of gravity's pull
 /// ([`crate::law::resting_speed`], the speed that also tells a step's `contacts` from its
 /// `collisions`). Without gravity no contact rests, and both choices are the seed's.
+///
+/// ```
+/// use bounce::{Boundary, Config, Particle, RestingContacts, World};
+/// // A disc at rest on the floor: the seed's keeps it hopping at |g| h; `Rest` holds it still.
+/// let fastest = |contacts| -> Result<f64, Box<dyn std::error::Error>> {
+///     let mut world = World::new(Config {
+///         boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+///         gravity: [0.0, -10.0],
+///         resting_contacts: contacts,
+///         ..Config::default()
+///     })?;
+///     world.add_particle(Particle::new([5.0, 1.0], [0.0, 0.0], 1.0))?;
+///     let mut fastest: f64 = 0.0;
+///     for _ in 0..200 {
+///         world.step(0.01)?;
+///         fastest = fastest.max(world.particles_by_id()[0].1.velocity[1].abs());
+///     }
+///     Ok(fastest)
+/// };
+/// assert_eq!(fastest(RestingContacts::Rest)?, 0.0);
+/// assert!((fastest(RestingContacts::Bounce)? - 0.1).abs() < 1e-12); // |g| h = 10 · 0.01
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RestingContacts {

@@ -18,6 +18,18 @@ use crate::stats::StepStats;
 /// it, whose error names what is wrong (the disc and the field). Deserializing a [`World`]
 /// directly checks the same, but formats such as postcard drop the message of a custom
 /// error.
+///
+/// ```
+/// use bounce::{Config, Particle, SavedWorld, World};
+/// let mut world = World::new(Config::default())?;
+/// world.add_particle(Particle::new([0.0, 0.0], [1.0, 0.0], 0.5))?;
+/// world.step(0.1)?;
+/// let bytes = postcard::to_stdvec(&world)?;
+/// let saved: SavedWorld = postcard::from_bytes(&bytes)?;
+/// let loaded = World::try_from(saved)?;
+/// assert_eq!(loaded.state_hash(), world.state_hash());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Deserialize)]
 #[serde(transparent)]
 pub struct SavedWorld(WorldState);
