@@ -338,12 +338,15 @@ fn a_killed_sweep_stops_its_job_and_the_rerun_resumes_it() {
     let dir = cut.join("workspace").join(&id);
     let deadline = Instant::now() + Duration::from_secs(60);
     // Running: its outputs are being written (as temporaries, renamed when whole).
+    // The sweep writes the state point first (through a temporary too), so only a
+    // temporary beside the finished state point is the run's.
     let writing = || {
-        std::fs::read_dir(&dir).is_ok_and(|entries| {
-            entries
-                .flatten()
-                .any(|e| e.file_name().to_string_lossy().starts_with(".bounce-tmp-"))
-        })
+        dir.join("signac_statepoint.json").exists()
+            && std::fs::read_dir(&dir).is_ok_and(|entries| {
+                entries
+                    .flatten()
+                    .any(|e| e.file_name().to_string_lossy().starts_with(".bounce-tmp-"))
+            })
     };
     while !writing() {
         assert!(Instant::now() < deadline, "job 0 did not start");
