@@ -88,6 +88,30 @@ impl World {
     /// already, repeated, beyond the world's ids, or has non-finite values or a radius
     /// `<= 0` changes nothing and is the error. The candidates are listed again at the next
     /// step, and [`World::travel`] counts from here.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, ParticleId, World};
+    /// let mut world = World::new(Config::default())?;
+    /// for x in [0.0, 4.0, 8.0] {
+    ///     world.add_particle(Particle::new([x, 0.0], [1.0, 0.0], 0.5))?;
+    /// }
+    /// let last = world.record(world.index_of(ParticleId(2)).unwrap());
+    /// // A part holding discs 0 and 1; disc 1 leaves and disc 2 arrives.
+    /// let mut part = world.part(&[world.record(0), world.record(1)])?;
+    /// let leaving = part.index_of(ParticleId(1)).unwrap();
+    /// part.regroup(|i| i != leaving, &[last])?;
+    /// let ids: Vec<u32> = part.in_id_order().iter().map(|(id, _)| id.0).collect();
+    /// assert_eq!(ids, [0, 2]);
+    /// // A ghost's state written from its owner: position, velocity, spin.
+    /// part.overwrite(&[(ParticleId(2), [9.0, 1.0, -1.0, 0.0, 0.0])])?;
+    /// assert_eq!(part.particle(ParticleId(2)).unwrap().position, [9.0, 1.0]);
+    /// assert!(part.overwrite(&[(ParticleId(1), [0.0; 5])]).is_err()); // not held here
+    /// // How far the discs have moved bounds when they must change hands again.
+    /// part.relist();
+    /// part.step(0.5)?;
+    /// assert!(part.travel().since_start >= 0.5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn regroup(
         &mut self,
         mut keep: impl FnMut(usize) -> bool,
@@ -145,6 +169,7 @@ impl World {
     /// named (a part's ghosts, from their owners; their image counts and orientations are
     /// left as they are, and ω where discs do not turn). Every id must be here; otherwise
     /// nothing changes.
+    /// See [`World::part`] and [`World::regroup`] for examples.
     pub fn overwrite(&mut self, states: &[(ParticleId, [f64; 5])]) -> Result<(), WorldError> {
         let mut at = Vec::with_capacity(states.len());
         for (id, _) in states {
@@ -159,6 +184,7 @@ impl World {
 
     /// Reports `stats` as the last step's: a distributed run's whole world, assembled from
     /// its parts, reports the step's statistics merged from theirs.
+    /// See [`World::part`] and [`World::regroup`] for examples.
     pub fn set_reported_stats(&mut self, stats: StepStats) {
         self.set_stats(stats);
     }
@@ -166,6 +192,7 @@ impl World {
     /// Reports `friction_work` as the energy friction has removed since the start: a
     /// distributed run's whole world reports the sum of the merged steps' (each part's own
     /// counts only its share).
+    /// See [`World::part`] and [`World::regroup`] for examples.
     pub fn set_reported_friction_work(&mut self, friction_work: f64) {
         self.friction_work = friction_work;
     }
@@ -182,6 +209,7 @@ impl World {
     /// In a part with a tally and contact events on: the contacts its last step saw that
     /// the tally counts (by the place of their disc `a`), each with its substep, for the
     /// whole world's [`ContactLog::record_step`]. Taken once.
+    /// See [`ContactLog::record_step`] for an example.
     pub fn take_contact_sightings(&mut self) -> Vec<(u32, crate::ContactEvent)> {
         self.contact_log.take_sightings()
     }
@@ -189,6 +217,7 @@ impl World {
     /// Each sensor's discs now that this world counts (its tally's, in a part; all
     /// otherwise), ids ascending: what a part tells the root for the whole world's
     /// [`SensorState`].
+    /// See [`SensorState::observe_sets`] for an example.
     pub fn sensed(&self) -> Vec<Vec<ParticleId>> {
         let p = &self.particles;
         let tally = self.tally;
@@ -210,6 +239,7 @@ impl World {
     }
 
     /// Every sensor's discs and counts.
+    /// See [`crate::SensorState::counts`] for an example.
     pub fn sensor_state(&self) -> &SensorState {
         &self.sensors
     }
@@ -217,6 +247,7 @@ impl World {
     /// Replaces the sensors' state: a distributed run's whole world takes the one its root
     /// keeps, so its counts, outputs and checkpoints are one process's. Refused (naming the
     /// problem) when it does not fit this world's sensors and ids.
+    /// See [`SensorState::observe_sets`] for an example.
     pub fn set_sensor_state(&mut self, state: SensorState) -> Result<(), WorldError> {
         if let Some(problem) = state.problem(&self.config.sensors, self.next_id) {
             return Err(WorldError::Inconsistent(format!("sensors: {problem}")));
@@ -226,12 +257,14 @@ impl World {
     }
 
     /// The contact log (the last substep's contacts and the last step's events).
+    /// See [`ContactLog::record_step`] for an example.
     pub fn contact_log(&self) -> &ContactLog {
         &self.contact_log
     }
 
     /// Replaces the contact log: a distributed run's whole world takes the log its root
     /// keeps, so its events, outputs and checkpoints are one process's.
+    /// See [`ContactLog::record_step`] for an example.
     pub fn set_contact_log(&mut self, log: ContactLog) {
         self.contact_log = log;
     }
@@ -239,6 +272,7 @@ impl World {
     /// Sizes the contact order's grid for discs up to `radius` (or this world's largest, if
     /// larger): a part of a distributed world gives the whole world's largest radius, so
     /// that its contacts fall in the same order.
+    /// See [`World::part`] for an example.
     pub fn set_order_radius(&mut self, radius: f64) {
         self.order_radius = radius;
     }
@@ -247,6 +281,7 @@ impl World {
     /// distance from where the list was made over the distance that forces a new list, not
     /// counting the few met alone, the strays, or their count over their cap if that is
     /// more): at 1 the next substep lists again. `None` while no list is kept.
+    /// See [`World::regroup`] for an example.
     pub fn candidates_worn(&self) -> Option<f64> {
         let bp = &self.broadphase;
         let allowance = bp.reference.allowance();
@@ -258,12 +293,14 @@ impl World {
     /// parts of a distributed world list together (their steps wait for the slowest part,
     /// and listing costs several plain steps), not each on its own schedule. Results do not
     /// change: which pairs collide never depends on when lists are made.
+    /// See [`World::regroup`] for an example.
     pub fn relist(&mut self) {
         self.broadphase.invalidate();
     }
 
     /// Bounds on how far any disc has moved, from what the broadphase measures anyway (see
     /// [`Travel`]): a distributed run decides from it when its discs must change hands.
+    /// See [`World::regroup`] for an example.
     pub fn travel(&self) -> Travel {
         self.travel
     }
