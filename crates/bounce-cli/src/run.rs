@@ -715,10 +715,7 @@ fn write_collisions(world: &World, counts: &[u64], path: &Path) -> Result<()> {
         let radius = world.particles().radius()[index];
         let _ = writeln!(text, "{},{radius},{}", id.0, counts[id.0 as usize]);
     }
-    let mut file = bounce_scenario::atomic::AtomicFile::create(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    std::io::Write::write_all(&mut file, text.as_bytes())?;
-    file.commit()
+    bounce_scenario::atomic::write(path, text.as_bytes())
         .with_context(|| format!("cannot write {}", path.display()))
 }
 

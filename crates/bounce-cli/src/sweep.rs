@@ -21,12 +21,10 @@
 //! `WORKSPACE/workflow.toml`, the same for glotzerlab's `row`, instead of running.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
 
 use anyhow::{Context, Result, anyhow, bail};
-use bounce_scenario::atomic::AtomicFile;
 use md5::{Digest, Md5};
 use serde::Deserialize;
 
@@ -283,10 +281,7 @@ fn read(path: &Path) -> Result<Sweep> {
 
 /// Writes `text` to `path` whole.
 fn write_file(path: &Path, text: &str) -> Result<()> {
-    let mut file =
-        AtomicFile::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    file.write_all(text.as_bytes())?;
-    file.commit()
+    bounce_scenario::atomic::write(path, text.as_bytes())
         .with_context(|| format!("cannot write {}", path.display()))
 }
 

@@ -28,15 +28,13 @@ use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
-use crate::law::{
-    Disc, Law, Rough, collide, is_impact, reflect, resting_speed, rub_walls, touch_walls,
-};
+use crate::law::{Disc, Law, Rough, collide, reflect, resting_speed, rub_walls, touch_walls};
 use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
 use crate::resolve::resolve_in_order;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
 use crate::sum::{ExactSum, StepSums, WallSums};
-use crate::world::{StepError, Substepped, World, add_tensor};
+use crate::world::{StepError, Substepped, World, add_tensor, note_impact};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
 /// the state), the plain way. It reports no contact events ([`World::contact_events`] is
@@ -124,9 +122,8 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                     if config.pressure_tensor {
                         add_tensor(&mut tensor, pair);
                     }
-                    let impact = is_impact(pair.out.approach, rules.resting_speed);
-                    if config.collision_counts && pass == 0 && impact {
-                        collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
+                    if config.collision_counts && pass == 0 {
+                        note_impact(&mut collided, p, pair, rules.resting_speed);
                     }
                 },
             );

@@ -195,6 +195,19 @@ pub(crate) fn add_tensor(sums: &mut [ExactSum; 3], pair: &PairResolved) {
     }
 }
 
+/// Notes a resolved pair's two ids in `collided` when it met as an impact (what
+/// [`Config::collision_counts`] counts, as `StepStats::collisions` does).
+pub(crate) fn note_impact(
+    collided: &mut Vec<u32>,
+    p: &Particles,
+    pair: &PairResolved,
+    resting_speed: f64,
+) {
+    if is_impact(pair.out.approach, resting_speed) {
+        collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
+    }
+}
+
 /// What a step's substeps leave for [`World::finish_step`].
 pub(crate) struct Substepped {
     pub stats: StepStats,
@@ -421,8 +434,8 @@ impl<'w> Stages<'w> {
                     if tensor {
                         add_tensor(&mut done.tensor, pair);
                     }
-                    if counting && pass == 0 && is_impact(pair.out.approach, resting_speed) {
-                        done.collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
+                    if counting && pass == 0 {
+                        note_impact(&mut done.collided, p, pair, resting_speed);
                     }
                 },
             ),
