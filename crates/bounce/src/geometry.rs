@@ -3,9 +3,11 @@
 //! [`Geometry`] is built once from [`Config::boundary`] and answers every question the other
 //! stages have about the edge of the world:
 //! - **admission**: may a disc of this radius sit here ([`Geometry::admit`])?
-//! - **distances**: `p1 - p2`, as the minimum image in a periodic box ([`MinImage`]);
+//! - **distances**: `p1 - p2`, as the minimum image in a periodic box ([`MinImage`]), the
+//!   images above and below slid along x in a Lees–Edwards box ([`Slide`]);
 //! - **the edge**: walls reflect a disc and record the impulse, a periodic box wraps it
-//!   ([`reflect`], [`wrap`], applied per disc by `integrate`);
+//!   ([`reflect`], [`wrap`], applied per disc by `integrate`; [`Slide::wrap`] in a sheared
+//!   box);
 //! - **grids**: the region the broadphase grids cover and whether they wrap
 //!   ([`Geometry::grid_extent`]), and the origin and period of the contact order grid
 //!   ([`Geometry::order_axis`]).
@@ -52,12 +54,49 @@ pub(crate) enum Geometry {
         /// The walls' restitution.
         restitution: f64,
     },
-    /// A periodic box `[min, min + size)`.
+    /// A periodic box `[min, min + size)`; a Lees–Edwards box when its images slide.
     Periodic {
         min: [f64; 2],
         max: [f64; 2],
         size: [f64; 2],
+        slide: Option<Slide>,
     },
+}
+
+/// The sliding images of a Lees–Edwards box at one moment: the box above stands `offset`
+/// along x and moves at `speed` (`γ̇ L_y`); the box below, the opposite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Slide {
+    /// `γ̇ L_y`.
+    pub speed: f64,
+    /// `δ = γ̇ L_y t`, brought into `[-L_x / 2, L_x / 2)`.
+    pub offset: f64,
+}
+
+impl Slide {
+    /// The offset at time `t` in a box `width` wide: `speed t` modulo the width, centred.
+    pub(crate) fn offset_at(speed: f64, t: f64, width: f64) -> f64 {
+        let d = (speed * t).rem_euclid(width);
+        if d >= 0.5 * width { d - width } else { d }
+    }
+
+    /// Brings a disc back into the box `[min, min + size)`: through the top or bottom it
+    /// re-enters the other side moved back by the offset, its x velocity less the images'
+    /// speed (per box crossed); then x wraps. Returns the boxes crossed along each axis.
+    #[inline(always)]
+    pub(crate) fn wrap(
+        &self,
+        [x, y, vx]: [&mut f64; 3],
+        min: [f64; 2],
+        size: [f64; 2],
+    ) -> [i32; 2] {
+        let up = wrap(y, min[1], size[1]);
+        if up != 0 {
+            *x -= up as f64 * self.offset;
+            *vx -= up as f64 * self.speed;
+        }
+        [wrap(x, min[0], size[0]), up]
+    }
 }
 
 /// How a grid covers the world along both axes: from `origin`, `width` wide, wrapping or not.
@@ -88,7 +127,42 @@ impl Geometry {
                 min,
                 max,
                 size: [max[0] - min[0], max[1] - min[1]],
+                slide: None,
             },
+            Boundary::LeesEdwards {
+                min,
+                max,
+                shear_rate,
+            } => Geometry::Periodic {
+                min,
+                max,
+                size: [max[0] - min[0], max[1] - min[1]],
+                slide: Some(Slide {
+                    speed: shear_rate * (max[1] - min[1]),
+                    offset: 0.0,
+                }),
+            },
+        }
+    }
+
+    /// This geometry at time `t`: a Lees–Edwards box's images at their offset then.
+    pub(crate) fn at_time(mut self, t: f64) -> Geometry {
+        if let Geometry::Periodic {
+            size,
+            slide: Some(slide),
+            ..
+        } = &mut self
+        {
+            slide.offset = Slide::offset_at(slide.speed, t, size[0]);
+        }
+        self
+    }
+
+    /// The sliding images, in a Lees–Edwards box.
+    pub(crate) fn slide(&self) -> Option<Slide> {
+        match *self {
+            Geometry::Periodic { slide, .. } => slide,
+            _ => None,
         }
     }
 
@@ -119,8 +193,14 @@ impl Geometry {
     #[inline]
     pub(crate) fn min_image(&self) -> MinImage {
         match *self {
-            Geometry::Periodic { size, .. } => MinImage(Some(size)),
-            _ => MinImage(None),
+            Geometry::Periodic { size, slide, .. } => MinImage {
+                size: Some(size),
+                slide: slide.map_or([0.0; 2], |s| [s.offset, s.speed]),
+            },
+            _ => MinImage {
+                size: None,
+                slide: [0.0; 2],
+            },
         }
     }
 
@@ -290,35 +370,73 @@ impl Particle {
     }
 }
 
-/// `p1 - p2`, as the minimum image when the box is periodic (`Some(size)`).
+/// `p1 - p2`, as the minimum image when the box is periodic, with the images above and below
+/// slid along x in a Lees–Edwards box.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct MinImage(Option<[f64; 2]>);
+pub(crate) struct MinImage {
+    /// The box's size, when periodic.
+    size: Option<[f64; 2]>,
+    /// The offset of the images above and their speed (zero unless sheared).
+    slide: [f64; 2],
+}
 
 impl MinImage {
+    /// The minimum image of an unsheared periodic box of `size`.
+    #[cfg(test)]
+    pub(crate) fn periodic(size: [f64; 2]) -> Self {
+        MinImage {
+            size: Some(size),
+            slide: [0.0; 2],
+        }
+    }
+
     /// Whether positions wrap.
     #[inline]
     pub(crate) fn is_periodic(&self) -> bool {
-        self.0.is_some()
+        self.size.is_some()
     }
 
-    /// `p1 - p2`, as the minimum image in a periodic box. Positions may sit slightly outside
-    /// the box after an overlap push; one correction per axis still finds the nearest image.
+    /// `p1 - p2`, as the minimum image in a periodic box: across the top or bottom first
+    /// (which slides x by the offset in a Lees–Edwards box, kept within half a width), then
+    /// across the sides. Positions may sit slightly outside the box after an overlap push;
+    /// one correction per axis still finds the nearest image.
     #[inline]
     pub(crate) fn diff(&self, x1: f64, y1: f64, x2: f64, y2: f64) -> [f64; 2] {
         let (mut dx, mut dy) = (x1 - x2, y1 - y2);
-        if let Some([lx, ly]) = self.0 {
+        if let Some([lx, ly]) = self.size {
+            let [offset, _] = self.slide;
+            if dy > 0.5 * ly {
+                dy -= ly;
+                dx -= offset;
+            } else if dy < -0.5 * ly {
+                dy += ly;
+                dx += offset;
+            }
             if dx > 0.5 * lx {
                 dx -= lx;
             } else if dx < -0.5 * lx {
                 dx += lx;
             }
-            if dy > 0.5 * ly {
-                dy -= ly;
-            } else if dy < -0.5 * ly {
-                dy += ly;
-            }
         }
         [dx, dy]
+    }
+
+    /// What to add to the x velocity of the disc at height `y2` to see it from the disc at
+    /// `y1` (as [`MinImage::diff`] places it): the images' speed when the nearest image of
+    /// the second is across the top or bottom of a Lees–Edwards box, else 0.
+    #[inline]
+    pub(crate) fn image_velocity(&self, y1: f64, y2: f64) -> f64 {
+        let (Some([_, ly]), [_, speed]) = (self.size, self.slide) else {
+            return 0.0;
+        };
+        let dy = y1 - y2;
+        if dy > 0.5 * ly {
+            speed
+        } else if dy < -0.5 * ly {
+            -speed
+        } else {
+            0.0
+        }
     }
 }
 
@@ -377,7 +495,7 @@ mod tests {
 
     #[test]
     fn minimum_image_picks_the_nearest_copy() {
-        let p = MinImage(Some([10.0, 10.0]));
+        let p = MinImage::periodic([10.0, 10.0]);
         assert_eq!(p.diff(9.5, 0.5, 0.5, 9.5), [-1.0, 1.0]);
         assert_eq!(p.diff(3.0, 3.0, 1.0, 1.0), [2.0, 2.0]);
         // Pushed slightly outside the box.

@@ -90,6 +90,22 @@ pub(crate) fn integrate(
             #[inline(always)]
             |_, _, _, _| {},
         ),
+        Geometry::Periodic {
+            min,
+            size,
+            slide: Some(slide),
+            ..
+        } => sweep.run(
+            exec,
+            chunks,
+            None,
+            #[inline(always)]
+            move |_, [x, y, vx, _], image, _| {
+                let crossed = slide.wrap([x, y, vx], min, size);
+                image[0] = image[0].wrapping_add(crossed[0]);
+                image[1] = image[1].wrapping_add(crossed[1]);
+            },
+        ),
         Geometry::Periodic { min, size, .. } => sweep.run(
             exec,
             chunks,

@@ -34,7 +34,7 @@ use crate::particles::Particles;
 use crate::resolve::resolve_in_order;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
 use crate::sum::{ExactSum, StepSums, WallSums};
-use crate::world::{StepError, Substepped, World, add_tensor, note_impact};
+use crate::world::{StepError, Substepped, World, add_tensor, note_impact, substep_end};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
 /// the state), the plain way. It reports no contact events ([`World::contact_events`] is
@@ -68,7 +68,8 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
     world.contact_log.start_step(None);
     let config = world.config.clone();
     let h = dt / substeps as f64;
-    let rules = Rules::new(&config, h);
+    let mut rules = Rules::new(&config, h);
+    let start = world.time();
     let mut stats = StepStats {
         substeps,
         emitted,
@@ -86,7 +87,9 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
         .any(|o| matches!(o.shape, Shape::Segment { .. }));
     let p = &mut world.particles;
     let states = &mut world.obstacle_states;
-    for _ in 0..substeps {
+    for substep in 0..substeps {
+        let end = substep_end(start, dt, substeps, substep);
+        rules.geometry = rules.geometry.at_time(end);
         if has_obstacles {
             obstacles::advance(&config, states, h);
         }
@@ -231,6 +234,16 @@ fn integrate(p: &mut Particles, rules: &Rules, h: f64) -> WallSums {
                 let (bottom, top) = reflect(&mut p.y[i], &mut p.vy[i], r, min[1], max[1], e, m);
                 rub(p, i, [left, right, bottom, top], m, rubbing, &mut impulse);
             }
+            Geometry::Periodic {
+                min,
+                size,
+                slide: Some(slide),
+                ..
+            } => {
+                let crossed = slide.wrap([&mut p.x[i], &mut p.y[i], &mut p.vx[i]], min, size);
+                p.image[i][0] = p.image[i][0].wrapping_add(crossed[0]);
+                p.image[i][1] = p.image[i][1].wrapping_add(crossed[1]);
+            }
             Geometry::Periodic { min, size, .. } => {
                 p.image[i][0] = p.image[i][0].wrapping_add(wrap(&mut p.x[i], min[0], size[0]));
                 p.image[i][1] = p.image[i][1].wrapping_add(wrap(&mut p.y[i], min[1], size[1]));
@@ -322,9 +335,21 @@ fn for_each_near_pair(
         _ => [reach.max(f64::MIN_POSITIVE); 2],
     };
     let cell_of = |i: usize| -> [i64; 2] {
+        let (mut x, mut y) = (p.x[i], p.y[i]);
+        // In a Lees–Edwards box a centre pushed past the top or bottom goes in the cell of
+        // its image in the box.
+        if let Geometry::Periodic {
+            min,
+            size,
+            slide: Some(slide),
+            ..
+        } = rules.geometry
+        {
+            slide.wrap([&mut x, &mut y, &mut 0.0], min, size);
+        }
         let raw = [
-            ((p.x[i] - origin[0]) / width[0]).floor() as i64,
-            ((p.y[i] - origin[1]) / width[1]).floor() as i64,
+            ((x - origin[0]) / width[0]).floor() as i64,
+            ((y - origin[1]) / width[1]).floor() as i64,
         ];
         match cells {
             Some(c) => [raw[0].rem_euclid(c[0]), raw[1].rem_euclid(c[1])],
@@ -346,6 +371,20 @@ fn for_each_near_pair(
                 }
                 if !near.contains(&cell) {
                     near.push(cell);
+                }
+            }
+        }
+        // Across the top or bottom of a Lees–Edwards box the row slides: all of it.
+        if let (Some(c), Some(_)) = (cells, rules.geometry.slide()) {
+            for row in [cy - 1, cy + 1]
+                .into_iter()
+                .filter(|row| !(0..c[1]).contains(row))
+            {
+                for column in 0..c[0] {
+                    let cell = [column, row.rem_euclid(c[1])];
+                    if !near.contains(&cell) {
+                        near.push(cell);
+                    }
                 }
             }
         }

@@ -456,7 +456,8 @@ pub(crate) fn resolve_in_order(
             angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
         };
         let (one, two) = (body(a), body(b));
-        let out = law.resolve(diff, &one, &two);
+        // Across a Lees–Edwards box's top or bottom, `b` is seen from `a`'s side.
+        let out = law.resolve_seen(diff, &one, &two, min_image.image_velocity(p.y[a], p.y[b]));
         let at = [p.x[a], p.y[a]];
         if tally.is_none_or(|t| t.counts(at[0], at[1])) {
             // The pair's impulse: the antisymmetric part of the two momentum changes.

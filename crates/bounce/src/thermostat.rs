@@ -11,16 +11,20 @@
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-use crate::config::{MassModel, Thermostat, ThermostatKind};
+use crate::config::{Boundary, MassModel, Thermostat, ThermostatKind};
 use crate::particles::Particles;
 use crate::sources::splitmix;
 use crate::sum::ExactSum;
 
 /// Applies `thermostat` at the end of step `step` (counted from 1) of `dt`; returns the
 /// kinetic energy it added (negative when it took some away).
+///
+/// In a Lees–Edwards box the temperature is that of the motion relative to the streaming
+/// velocity ([`Boundary::streaming_velocity`]): rescaling scales it, and Andersen's bath
+/// draws it, about the disc's streaming velocity.
 pub(crate) fn apply(
     thermostat: &Thermostat,
-    model: MassModel,
+    (model, boundary): (MassModel, &Boundary),
     p: &mut Particles,
     step: u64,
     dt: f64,
@@ -33,19 +37,36 @@ pub(crate) fn apply(
     let before: Vec<[f64; 2]> = (0..n).map(|i| [p.vx[i], p.vy[i]]).collect();
     let coupling = (thermostat.rate * dt).min(1.0);
     let t = thermostat.temperature;
+    // The streaming velocity of each disc, in a Lees–Edwards box.
+    let streams: Vec<f64> = match boundary.is_sheared() {
+        true => (p.y.iter())
+            .map(|&y| boundary.streaming_velocity(y).unwrap_or(0.0))
+            .collect(),
+        false => Vec::new(),
+    };
+    let streaming = |i: usize| streams.get(i).copied();
     match thermostat.kind {
         ThermostatKind::Rescale => {
-            let centre = centre_of_mass_velocity(&mass, &before);
+            let relative: Vec<[f64; 2]> = match boundary.is_sheared() {
+                false => before.clone(),
+                true => (before.iter().enumerate())
+                    .map(|(i, v)| [v[0] - streaming(i).unwrap_or(0.0), v[1]])
+                    .collect(),
+            };
+            let centre = centre_of_mass_velocity(&mass, &relative);
             let mut peculiar = ExactSum::new();
-            for (m, v) in mass.iter().zip(&before) {
+            for (m, v) in mass.iter().zip(&relative) {
                 peculiar.add(0.5 * m * ((v[0] - centre[0]).powi(2) + (v[1] - centre[1]).powi(2)));
             }
             let now = peculiar.value() / n as f64;
             if now > 0.0 {
                 let scale = (1.0 + coupling * (t / now - 1.0)).sqrt();
-                for (i, v) in before.iter().enumerate() {
+                for (i, v) in relative.iter().enumerate() {
                     p.vx[i] = centre[0] + scale * (v[0] - centre[0]);
                     p.vy[i] = centre[1] + scale * (v[1] - centre[1]);
+                    if let Some(u) = streaming(i) {
+                        p.vx[i] += u;
+                    }
                 }
             }
         }
@@ -56,6 +77,9 @@ pub(crate) fn apply(
                     let [a, b] = draw.normals();
                     let spread = (t / m).sqrt();
                     (p.vx[i], p.vy[i]) = (spread * a, spread * b);
+                    if let Some(u) = streaming(i) {
+                        p.vx[i] += u;
+                    }
                 }
             }
         }
@@ -154,13 +178,13 @@ mod tests {
         let mut p = gas(50);
         let bath = Thermostat::new(ThermostatKind::Rescale, 3.0, 10.0);
         let t0 = temperature(&p, model);
-        let added = apply(&bath, model, &mut p, 1, 0.02);
+        let added = apply(&bath, (model, &Boundary::Open), &mut p, 1, 0.02);
         // T += 0.2 (3 − T).
         let t1 = temperature(&p, model);
         assert!((t1 - (t0 + 0.2 * (3.0 - t0))).abs() < 1e-12 * t1);
         assert!((added - 50.0 * (t1 - t0)).abs() < 1e-9);
         // rate · dt >= 1: exactly the bath's temperature.
-        apply(&bath, model, &mut p, 2, 0.5);
+        apply(&bath, (model, &Boundary::Open), &mut p, 2, 0.5);
         assert!((temperature(&p, model) - 3.0).abs() < 1e-12);
     }
 
@@ -181,7 +205,7 @@ mod tests {
         let start = momentum(&p);
         let mut added = 0.0;
         for step in 1..=steps {
-            added += apply(&bath, model, &mut p, step, dt);
+            added += apply(&bath, (model, &Boundary::Open), &mut p, step, dt);
         }
         let end = momentum(&p);
         assert!((end[0] - start[0]).abs() < 1e-10 && (end[1] - start[1]).abs() < 1e-10);
@@ -200,13 +224,13 @@ mod tests {
         let mut p = gas(2000);
         let bath = Thermostat::new(ThermostatKind::Andersen, 0.7, 25.0);
         let before: Vec<f64> = p.vx.clone();
-        apply(&bath, model, &mut p, 1, 0.01);
+        apply(&bath, (model, &Boundary::Open), &mut p, 1, 0.01);
         // About a quarter of the discs drawn anew.
         let changed = (0..2000).filter(|&i| p.vx[i] != before[i]).count();
         assert!((changed as f64 / 2000.0 - 0.25).abs() < 0.04, "{changed}");
         // Every disc drawn: its temperature is the bath's.
         let all = Thermostat::new(ThermostatKind::Andersen, 0.7, 1e3);
-        apply(&all, model, &mut p, 2, 0.01);
+        apply(&all, (model, &Boundary::Open), &mut p, 2, 0.01);
         assert!((temperature(&p, model) / 0.7 - 1.0).abs() < 0.06);
     }
 
@@ -219,8 +243,8 @@ mod tests {
         for i in (0..20).rev() {
             backward.push(ParticleId(i as u32), &forward.get(i).unwrap());
         }
-        apply(&bath, model, &mut forward, 7, 0.1);
-        apply(&bath, model, &mut backward, 7, 0.1);
+        apply(&bath, (model, &Boundary::Open), &mut forward, 7, 0.1);
+        apply(&bath, (model, &Boundary::Open), &mut backward, 7, 0.1);
         for i in 0..20 {
             let j = 19 - i;
             assert_eq!(forward.vx[i].to_bits(), backward.vx[j].to_bits());

@@ -25,6 +25,8 @@ fn boundary(kind: u8, size: f64) -> Boundary {
     match kind {
         0 => Boundary::walls([0.0, 0.0], [size, size]),
         1 => Boundary::periodic([0.0, 0.0], [size, size]),
+        // Sheared: after each step of 0.5 the images above stand another 0.185 sides on.
+        2 => Boundary::lees_edwards([0.0, 0.0], [size, size], 0.37),
         _ => Boundary::Open,
     }
 }
@@ -78,7 +80,7 @@ proptest! {
 
     #[test]
     fn grid_matches_brute_force(
-        kind in 0u8..3,
+        kind in 0u8..4,
         scale in 0.5..2.0f64,
         particles in discs(400, 60.0, 5.0),
     ) {
@@ -87,7 +89,7 @@ proptest! {
 
     #[test]
     fn grid_matches_brute_force_when_levels_share_a_grid(
-        kind in 0u8..2,
+        kind in 0u8..3,
         scale in 0.5..2.0f64,
         particles in discs(200, 200.0, 5.0),
     ) {
@@ -98,7 +100,7 @@ proptest! {
 
     #[test]
     fn grid_matches_brute_force_with_one_giant(
-        kind in 0u8..3,
+        kind in 0u8..4,
         particles in discs(600, 40.0, 0.3),
     ) {
         // Brownian-like: many small discs and one large one (four levels apart).

@@ -1,15 +1,23 @@
 //! Spatial queries against brute force: random worlds of every boundary kind (walls with a
-//! disc far larger than the rest, a periodic box, an open world), 10,000 probes in all of
-//! circles, boxes, nearest points and rays, each answer equal to testing every disc.
+//! disc far larger than the rest, a periodic box, an open world, a Lees–Edwards box whose
+//! images stand slid), 14,000 probes in all of circles, boxes, nearest points and rays, each
+//! answer equal to testing every disc.
 
 use bounce::{Boundary, Config, Particle, ParticleId, World};
 use proptest::prelude::*;
 
-/// A world of `n` random discs (radii in [0.1, 0.6], one of radius 4 unless periodic).
+/// Whether a kind of world is periodic (plain or sheared).
+fn periodic(kind: u8) -> bool {
+    kind == 1 || kind == 3
+}
+
+/// A world of `n` random discs (radii in [0.1, 0.6], one of radius 4 unless periodic); the
+/// sheared one is stepped once, at rest, so its images stand 6.9 along.
 fn world(kind: u8, n: usize, seed: u64) -> World {
     let boundary = match kind {
         0 => Boundary::walls([0.0, 0.0], [40.0, 30.0]),
         1 => Boundary::periodic([-10.0, 0.0], [30.0, 30.0]),
+        3 => Boundary::lees_edwards([-10.0, 0.0], [30.0, 30.0], 0.1),
         _ => Boundary::Open,
     };
     let mut world = World::new(Config {
@@ -25,11 +33,11 @@ fn world(kind: u8, n: usize, seed: u64) -> World {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let (lo, hi) = match kind {
-        1 => ([-10.0, 0.0], [30.0, 30.0]),
+        1 | 3 => ([-10.0, 0.0], [30.0, 30.0]),
         _ => ([0.0, 0.0], [40.0, 30.0]),
     };
     for k in 0..n {
-        let r = if k == 0 && kind != 1 {
+        let r = if k == 0 && !periodic(kind) {
             4.0
         } else {
             0.1 + 0.5 * next()
@@ -41,16 +49,22 @@ fn world(kind: u8, n: usize, seed: u64) -> World {
             .add_particle(Particle::new([x, y], [0.0, 0.0], r))
             .unwrap();
     }
+    if kind == 3 {
+        // Images above at 0.1 · 30 · 2.3 = 6.9 along x.
+        world.step(2.3).unwrap();
+    }
     world
 }
 
-/// `a - b` as the queries measure it: the minimum image in a periodic box.
-fn offset(a: [f64; 2], b: [f64; 2], period: Option<[f64; 2]>) -> [f64; 2] {
+/// `a - b` as the queries measure it: the minimum image in a periodic box, across the top
+/// and bottom first where the images there stand `slide` along x.
+fn offset(a: [f64; 2], b: [f64; 2], period: Option<[f64; 2]>, slide: f64) -> [f64; 2] {
     let mut d = [a[0] - b[0], a[1] - b[1]];
     if let Some(size) = period {
-        for k in 0..2 {
-            d[k] -= size[k] * (d[k] / size[k]).round();
-        }
+        let up = (d[1] / size[1]).round();
+        d[1] -= up * size[1];
+        d[0] -= up * slide;
+        d[0] -= size[0] * (d[0] / size[0]).round();
     }
     d
 }
@@ -72,12 +86,17 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
     let world = world(kind, n, seed);
     let queries = world.queries();
     let discs = world.particles_by_id();
-    let period = (kind == 1).then_some([40.0, 30.0]);
+    let period = periodic(kind).then_some([40.0, 30.0]);
+    let slide = world.lees_edwards_offset().unwrap_or(0.0);
+    assert!(kind != 3 || (slide - 6.9).abs() < 1e-9);
     let wrap = |p: [f64; 2]| match period {
-        Some(size) => [
-            -10.0 + (p[0] + 10.0).rem_euclid(size[0]),
-            (p[1]).rem_euclid(size[1]),
-        ],
+        Some(size) => {
+            let up = (p[1] / size[1]).floor();
+            [
+                -10.0 + (p[0] - up * slide + 10.0).rem_euclid(size[0]),
+                (p[1]).rem_euclid(size[1]),
+            ]
+        }
         None => p,
     };
     for probe in probes {
@@ -86,7 +105,7 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
         // A circle of radius `a`.
         let brute: Vec<ParticleId> = (discs.iter())
             .filter(|(_, d)| {
-                let v = offset(d.position, wrap(point), period);
+                let v = offset(d.position, wrap(point), period, slide);
                 (v[0] * v[0] + v[1] * v[1]).sqrt() <= a + d.radius
             })
             .map(|(id, _)| *id)
@@ -94,7 +113,7 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
         let found = queries.in_circle(point, a);
         // (The boundary's rounding may differ by a hair: compare away from it.)
         let near_edge = discs.iter().any(|(_, d)| {
-            let v = offset(d.position, wrap(point), period);
+            let v = offset(d.position, wrap(point), period, slide);
             ((v[0] * v[0] + v[1] * v[1]).sqrt() - (a + d.radius)).abs() < 1e-9
         });
         if !near_edge {
@@ -105,7 +124,7 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
         let centre = wrap([0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1])]);
         let brute: Vec<ParticleId> = (discs.iter())
             .filter(|(_, d)| {
-                let v = offset(d.position, centre, period);
+                let v = offset(d.position, centre, period, slide);
                 let out = [(v[0].abs() - a).max(0.0), (v[1].abs() - b).max(0.0)];
                 out[0] * out[0] + out[1] * out[1] <= d.radius * d.radius
             })
@@ -115,7 +134,7 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
         // The nearest edge.
         let brute = (discs.iter())
             .map(|(id, d)| {
-                let v = offset(d.position, wrap(point), period);
+                let v = offset(d.position, wrap(point), period, slide);
                 ((v[0] * v[0] + v[1] * v[1]).sqrt() - d.radius, *id)
             })
             .min_by(|x, y| x.partial_cmp(y).unwrap())
@@ -128,7 +147,10 @@ fn check(kind: u8, n: usize, seed: u64, probes: &[[f64; 5]]) -> Result<(), TestC
         let origin = wrap(point);
         let shifts: Vec<[f64; 2]> = match period {
             Some(size) => (-3..=3)
-                .flat_map(|i| (-3..=3).map(move |j| [i as f64 * size[0], j as f64 * size[1]]))
+                .flat_map(|i| {
+                    (-3..=3)
+                        .map(move |j| [i as f64 * size[0] + j as f64 * slide, j as f64 * size[1]])
+                })
                 .collect(),
             None => vec![[0.0, 0.0]],
         };
@@ -177,10 +199,10 @@ fn probes() -> impl Strategy<Value = Vec<[f64; 5]>> {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 14, ..ProptestConfig::default() })]
 
-    // 14 cases × 250 probes × 3 boundary kinds: 10,500 probes of each query.
+    // 14 cases × 250 probes × 4 boundary kinds: 14,000 probes of each query.
     #[test]
     fn queries_equal_brute_force(n in 1usize..400, seed in any::<u64>(), probes in probes()) {
-        for kind in 0..3 {
+        for kind in 0..4 {
             check(kind, n, seed, &probes)?;
         }
     }

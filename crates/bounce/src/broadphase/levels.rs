@@ -402,6 +402,11 @@ pub(super) fn level_grid(
             *cells = if wrap && fewer < 3 { 1 } else { fewer };
         }
     }
+    if ctx.geometry.slide().is_some() && n[1] == 1 {
+        // A Lees–Edwards box one cell high: partners across the top and bottom may be
+        // anywhere along x, so the level is one cell.
+        n[0] = 1;
+    }
     let cell = [0, 1].map(|axis| {
         if n[axis] == 1 && !wrap {
             width[axis].max(min_cell)

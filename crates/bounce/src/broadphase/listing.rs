@@ -43,6 +43,7 @@ pub(super) fn list_candidates(
         law: ctx.law,
         margin,
         min_image,
+        slide: ctx.geometry.slide().map(|slide| slide.offset),
     };
     ctx.exec.for_each_mut(x.len(), candidates, |b, bands| {
         for pairs in bands.iter_mut() {
@@ -110,6 +111,9 @@ pub(super) struct Context<'a> {
     /// Added to each pair's collision distance: the skin.
     margin: f64,
     min_image: MinImage,
+    /// The offset of the images above, in a Lees–Edwards box: the row across the top
+    /// holds a disc's partners that much further left.
+    slide: Option<f64>,
 }
 
 impl Context<'_> {
@@ -267,20 +271,31 @@ impl Context<'_> {
                 // The own cell and the forward half-stencil, in stencil order, with cells that
                 // follow each other in memory merged into one run: (cx, cy) and (cx + 1, cy)
                 // are one run, and so is the row above. Fewer, longer loops.
+                // In a Lees–Edwards box the row across the top slides: its cells come from
+                // `seam_cells`, not the stencil.
+                let seam = self.slide.filter(|_| cy + 1 == g.n[1] && g.n[1] > 1);
                 let mut runs = [(own_cell, own_cell); 5];
                 let mut count = 1;
+                let mut add = |cell: usize| {
+                    if cell == runs[count - 1].1 + 1 {
+                        runs[count - 1].1 = cell;
+                    } else {
+                        runs[count] = (cell, cell);
+                        count += 1;
+                    }
+                };
                 for &[dx, dy] in &g.forward {
                     if let (Some(nx), Some(ny)) = (
                         g.neighbour(cx as isize + dx, 0),
                         g.neighbour(cy as isize + dy, 1),
-                    ) {
-                        let cell = g.cell_index(nx, ny);
-                        if cell == runs[count - 1].1 + 1 {
-                            runs[count - 1].1 = cell;
-                        } else {
-                            runs[count] = (cell, cell);
-                            count += 1;
-                        }
+                    ) && (seam.is_none() || dy == 0)
+                    {
+                        add(g.cell_index(nx, ny));
+                    }
+                }
+                if let Some(offset) = seam {
+                    for column in seam_cells(g, cx, offset) {
+                        add(g.cell_index(column, 0));
                     }
                 }
                 let mut ranges = [0..0, 0..0, 0..0, 0..0, 0..0];
@@ -310,9 +325,9 @@ impl Context<'_> {
         let pos = [self.x[a], self.y[a]];
         // The cells under the reach along one axis: a first cell and a count (wrapping in a
         // periodic grid).
-        let span = |axis: usize| -> (isize, usize) {
-            let lo = floor_to_isize((pos[axis] - reach - grid.origin[axis]) * grid.inv_cell[axis]);
-            let hi = floor_to_isize((pos[axis] + reach - grid.origin[axis]) * grid.inv_cell[axis]);
+        let span = |axis: usize, v: f64| -> (isize, usize) {
+            let lo = floor_to_isize((v - reach - grid.origin[axis]) * grid.inv_cell[axis]);
+            let hi = floor_to_isize((v + reach - grid.origin[axis]) * grid.inv_cell[axis]);
             let n = grid.n[axis] as isize;
             // Far beyond any grid (cells per axis are capped at 10^6), and fits 32-bit isize.
             let (lo, hi) = (lo.max(-(1 << 28)), hi.min(1 << 28));
@@ -328,12 +343,26 @@ impl Context<'_> {
                 (lo, (hi - lo + 1) as usize)
             }
         };
-        let (x_first, x_count) = span(0);
-        let (y_first, y_count) = span(1);
+        let (x_first, x_count) = span(0, pos[0]);
+        let (y_first, y_count) = span(1, pos[1]);
+        // The first row before wrapping (for the rows across a Lees–Edwards box's edges).
+        let y_lowest = floor_to_isize((pos[1] - reach - grid.origin[1]) * grid.inv_cell[1]);
         let (nx, ny) = (grid.n[0] as isize, grid.n[1] as isize);
         for k in 0..y_count as isize {
             // Below two periods: one subtraction, not a division.
             let cy = wrap_index(y_first + k, ny) as usize;
+            // In a Lees–Edwards box a row across the top holds the partners of a disc at
+            // `x` near `x - offset`, one across the bottom near `x + offset` (`y_first` is
+            // wrapped: which side a row is on goes by the unwrapped one).
+            let (x_first, x_count) = match self.slide {
+                None => (x_first, x_count),
+                Some(_) if y_count as isize >= ny => (0, nx as usize),
+                Some(offset) => match y_lowest + k {
+                    row if row >= ny => span(0, pos[0] - offset),
+                    row if row < 0 => span(0, pos[0] + offset),
+                    _ => (x_first, x_count),
+                },
+            };
             // The row's cells are contiguous in memory: one range, or two where it wraps.
             let end = x_first + x_count as isize;
             let first_run = (x_first as usize, (end.min(nx) - 1) as usize);
@@ -346,6 +375,18 @@ impl Context<'_> {
             }
         }
     }
+}
+
+/// The columns of the bottom row that hold the partners, across the top of a Lees–Edwards
+/// box whose images above stand `offset` along x, of the discs in column `cx` of the top
+/// row: each partner is within a cell (at least its reach) of a point `offset` left of the
+/// disc, so four columns from one and a bit left of the cell, wrapped (the whole row when it
+/// has at most four).
+fn seam_cells(g: &LevelGrid, cx: usize, offset: f64) -> impl Iterator<Item = usize> {
+    let n = g.n[0] as isize;
+    let first = floor_to_isize(cx as f64 - 1.0 - offset * g.inv_cell[0]);
+    let (first, count) = if n <= 4 { (0, n) } else { (first, 4) };
+    (first..first + count).map(move |c| wrap_index(c, n) as usize)
 }
 
 #[cfg(test)]

@@ -69,6 +69,7 @@ pub(crate) use reference::{Moved, Reference};
 pub(crate) use strays::{Strays, max_strays};
 
 use crate::context::StepContext;
+use crate::geometry::Geometry;
 use crate::particles::{ParticleId, Particles, PermuteScratch, ordered};
 use levels::{Discs, LevelGrid};
 use reference::Skin;
@@ -243,7 +244,10 @@ impl Broadphase {
                         contacts_per_disc,
                         self.reference.near_band_holds(moved.max_kept2),
                     )));
-        let kept = self.reference.positions(p.len()).is_some()
+        // In a Lees–Edwards box the images slide past each other between listings, which
+        // the displacements do not measure: the list is made anew every substep.
+        let kept = ctx.geometry.slide().is_none()
+            && self.reference.positions(p.len()).is_some()
             && self.reference.covers(moved.max_kept2)
             && few_strays;
         if kept {
@@ -300,6 +304,24 @@ impl Broadphase {
         ctx: &StepContext,
         margin: f64,
     ) {
+        // In a Lees–Edwards box a centre pushed past the top or bottom is binned as its
+        // image in the box (the stencil across the top expects the slid columns there).
+        let inside: Option<[Vec<f64>; 2]> = match ctx.geometry {
+            Geometry::Periodic {
+                min,
+                size,
+                slide: Some(slide),
+                ..
+            } => Some({
+                let (mut x, mut y) = (x.to_vec(), y.to_vec());
+                for (x, y) in x.iter_mut().zip(&mut y) {
+                    slide.wrap([x, y, &mut 0.0], min, size);
+                }
+                [x, y]
+            }),
+            _ => None,
+        };
+        let [x, y] = inside.as_ref().map_or([x, y], |[x, y]| [&x[..], &y[..]]);
         self.bin([x, y, radius], ctx, Skin::Fixed(margin));
         let gather =
             |v: &[f64]| -> Vec<f64> { self.order.iter().map(|&i| v[i as usize]).collect() };

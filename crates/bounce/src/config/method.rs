@@ -75,6 +75,9 @@ impl Config {
         if self.obstacles.iter().any(|o| o.motion != Motion::Fixed) {
             return Some("cannot be combined with moving obstacles");
         }
+        if matches!(self.boundary, Boundary::LeesEdwards { .. }) {
+            return Some("cannot be combined with a Lees–Edwards boundary yet");
+        }
         if matches!(self.boundary, Boundary::Periodic { .. }) && !self.obstacles.is_empty() {
             return Some("cannot be combined with obstacles in a periodic box");
         }

@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod boundary;
 mod method;
 mod models;
 mod obstacle;
@@ -15,6 +16,7 @@ mod sensor;
 mod sources;
 mod thermostat;
 
+pub use boundary::Boundary;
 pub use method::Method;
 pub use models::{MassModel, RestingContacts, RestitutionModel, VelocityUpdate};
 
@@ -189,77 +191,6 @@ impl Default for Config {
     }
 }
 
-/// The edge of the world.
-///
-/// ```
-/// use bounce::{Boundary, Config, Particle, World};
-/// let mut world = World::new(Config {
-///     boundary: Boundary::periodic([0.0, 0.0], [10.0, 10.0]),
-///     ..Config::default()
-/// })?;
-/// let id = world.add_particle(Particle::new([9.5, 5.0], [1.0, 0.0], 0.5))?;
-/// world.step(1.0)?; // out through the right edge, in through the left
-/// assert_eq!(world.particle(id).unwrap().position, [0.5, 5.0]);
-/// assert_eq!(Boundary::walls([0.0, 0.0], [4.0, 3.0]).bounds(), Some(([0.0, 0.0], [4.0, 3.0])));
-/// assert_eq!(Boundary::Open.bounds(), None);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum Boundary {
-    /// No boundary: particles fly freely. The grid follows the particles.
-    Open,
-    /// An axis-aligned box whose four walls reflect discs. A disc touches a wall when its
-    /// centre is within its (unscaled) radius of it; its centre is then put back at that distance
-    /// and its normal velocity, if moving into the wall, is reversed and scaled by the wall
-    /// restitution. The momentum change is reported per wall in [`crate::StepStats`].
-    Walls {
-        /// Lower-left corner.
-        min: [f64; 2],
-        /// Upper-right corner.
-        max: [f64; 2],
-        /// Restitution of the walls, in `[0, 1]`. `None` (the default) uses the
-        /// coefficient of restitution.
-        #[serde(default)]
-        wall_restitution: Option<f64>,
-    },
-    /// A periodic box: a disc leaving one side re-enters on the other, and distances use the
-    /// minimum image. Discs must satisfy `2 r * collision_radius_scale <= width / 2` (and
-    /// height), so that only one image of a neighbour can be within reach.
-    Periodic {
-        /// Lower-left corner.
-        min: [f64; 2],
-        /// Upper-right corner.
-        max: [f64; 2],
-    },
-}
-
-impl Boundary {
-    /// Walls around the box `[min, max]` with the wall restitution equal to the coefficient of
-    /// restitution. See [`Boundary`] for an example.
-    pub fn walls(min: [f64; 2], max: [f64; 2]) -> Self {
-        Boundary::Walls {
-            min,
-            max,
-            wall_restitution: None,
-        }
-    }
-
-    /// A periodic box `[min, max)`. See [`Boundary`] for an example.
-    pub fn periodic(min: [f64; 2], max: [f64; 2]) -> Self {
-        Boundary::Periodic { min, max }
-    }
-
-    /// The box of a walled or periodic world; `None` when open. See [`Boundary`] for an
-    /// example.
-    pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
-        match *self {
-            Boundary::Open => None,
-            Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => Some((min, max)),
-        }
-    }
-}
-
 /// A configuration value out of its allowed range.
 ///
 /// ```
@@ -365,6 +296,9 @@ impl Config {
                 w.to_string(),
                 "must be in [0, 1]",
             );
+        }
+        if let Some((value, expected)) = self.lees_edwards_problem() {
+            err("boundary.shear_rate", value, expected);
         }
         let coefficient = |v: f64| v.is_finite() && v >= 0.0;
         if !coefficient(self.friction) {

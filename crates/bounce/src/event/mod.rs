@@ -189,7 +189,10 @@ impl EventDriven {
                 .map_err(|e| EventError::Disc(k, e.to_string()))?;
         }
         let (min, size, periodic, walls) = match config.boundary {
-            Boundary::Periodic { min, max } => (min, sub(max, min), true, None),
+            // (A sheared box was refused above.)
+            Boundary::Periodic { min, max } | Boundary::LeesEdwards { min, max, .. } => {
+                (min, sub(max, min), true, None)
+            }
             Boundary::Walls { min, max, .. } => {
                 (min, sub(max, min), false, Some(config.wall_restitution()))
             }

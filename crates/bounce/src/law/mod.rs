@@ -197,6 +197,27 @@ impl Law {
     pub fn resolve(&self, diff: [f64; 2], a: &Body, b: &Body) -> Resolution {
         resolve_pair(diff, a, b, self)
     }
+
+    /// [`Law::resolve`] with `b` seen from `a`'s side of a Lees–Edwards box's top or
+    /// bottom: the law gets `b`'s image, `image_velocity` faster along x, and `b` keeps its
+    /// own velocity (the same as `resolve` when it is 0).
+    #[inline(always)]
+    pub(crate) fn resolve_seen(
+        &self,
+        diff: [f64; 2],
+        a: &Body,
+        b: &Body,
+        image_velocity: f64,
+    ) -> Resolution {
+        if image_velocity == 0.0 {
+            return self.resolve(diff, a, b);
+        }
+        let mut seen = *b;
+        seen.velocity[0] += image_velocity;
+        let mut out = self.resolve(diff, a, &seen);
+        out.v2[0] -= image_velocity;
+        out
+    }
 }
 
 /// A wall's or an obstacle's restitution `e` as a step applies it: a disc meeting it at a

@@ -9,6 +9,31 @@ use crate::particles::{Particle, ParticleError, ParticleId};
 use super::World;
 
 impl World {
+    /// Where a Lees–Edwards box's images above stand along x now: `shear_rate · height ·
+    /// time`, brought into `[-width / 2, width / 2)` (the images below stand at minus it);
+    /// `None` in any other boundary.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::lees_edwards([0.0, 0.0], [10.0, 10.0], 0.1),
+    ///     ..Config::default()
+    /// })?;
+    /// let id = world.add_particle(Particle::new([5.0, 9.9], [0.0, 1.0], 0.5))?;
+    /// world.step(0.5)?; // the images above move at 0.1 · 10 = 1: offset 0.5
+    /// assert_eq!(world.lees_edwards_offset(), Some(0.5));
+    /// // Out through the top, in at the bottom moved back by the offset, 1 slower along x.
+    /// let disc = world.particle(id).unwrap();
+    /// assert!((disc.position[0] - 4.5).abs() < 1e-12 && (disc.position[1] - 0.4).abs() < 1e-12);
+    /// assert_eq!(disc.velocity, [-1.0, 1.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn lees_edwards_offset(&self) -> Option<f64> {
+        crate::geometry::Geometry::new(&self.config)
+            .at_time(self.time)
+            .slide()
+            .map(|slide| slide.offset)
+    }
     /// The storage index of particle `id` now: where its values sit in
     /// [`World::particles`]' arrays until the next step may reorder them.
     ///
@@ -295,7 +320,7 @@ impl World {
     pub fn queries(&self) -> crate::query::Queries {
         crate::query::Queries::new(
             &self.particles,
-            &crate::geometry::Geometry::new(&self.config),
+            &crate::geometry::Geometry::new(&self.config).at_time(self.time),
         )
     }
 
@@ -335,7 +360,8 @@ impl World {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn colliding_pairs(&self) -> Vec<(ParticleId, ParticleId)> {
-        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        let mut ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        ctx.geometry = ctx.geometry.at_time(self.time);
         let p = &self.particles;
         let mut broadphase = Broadphase::default();
         // Any margin gives a superset of the colliding pairs; the law's test decides.
@@ -359,7 +385,8 @@ impl World {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn colliding_pairs_brute_force(&self) -> Vec<(ParticleId, ParticleId)> {
-        let ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        let mut ctx = StepContext::new(&self.config, 0.0, &self.exec, None);
+        ctx.geometry = ctx.geometry.at_time(self.time);
         broadphase::brute_force_pairs(&self.particles, &ctx)
     }
 }

@@ -44,7 +44,7 @@ mod tests;
 use access::IndexMap;
 use obstacles::initial_states;
 use state::{WorldState, serialize_reference};
-pub(crate) use step::{Substepped, add_tensor, note_impact};
+pub(crate) use step::{Substepped, add_tensor, note_impact, substep_end};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///

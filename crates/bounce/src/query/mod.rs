@@ -8,11 +8,16 @@
 //! box with walls or an open world, discs wider than a cell (a Brownian particle among
 //! small ones) are kept aside and tested by every query. In a periodic box the cells tile
 //! the box exactly, distances are minimum images (regions up to half the box across), and a
-//! ray goes on through the box's copies. Results are in id order (ties to the lower id), so
+//! ray goes on through the box's copies (in a Lees–Edwards box, the copies above and below
+//! slid along x by the current offset). Results are in id order (ties to the lower id), so
 //! they do not depend on the storage order or the thread count.
 
 use crate::geometry::Geometry;
 use crate::particles::{ParticleId, Particles};
+
+mod ray;
+
+use ray::{Walk, entry};
 
 /// The first disc a ray enters ([`Queries::ray_cast`], which has an example).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +51,8 @@ pub struct Queries {
     large: Vec<u32>,
     /// The box's size when periodic.
     period: Option<[f64; 2]>,
+    /// How far along x the copy of the box above stands, in a Lees–Edwards box (else 0).
+    slide: f64,
 }
 
 impl Queries {
@@ -104,6 +111,7 @@ impl Queries {
             items: Vec::new(),
             large: Vec::new(),
             period,
+            slide: geometry.slide().map_or(0.0, |slide| slide.offset),
         };
         let reach = 0.5 * width[0].min(width[1]);
         let count = (cells[0] * cells[1]) as usize;
@@ -234,7 +242,7 @@ impl Queries {
         let most = self.cells[0].max(self.cells[1]);
         for ring in 0..=most + 1 {
             for cell in ring_cells(home, ring) {
-                if let Some((cell, _)) = self.image_of(cell) {
+                for (cell, _) in self.images_of(cell).into_iter().flatten() {
                     self.in_cell(cell, |i| consider(&mut best, i));
                 }
             }
@@ -300,7 +308,7 @@ impl Queries {
             for dy in -1..=1 {
                 for dx in -1..=1 {
                     let near = [cell[0] + dx, cell[1] + dy];
-                    if let Some((wrapped, shift)) = self.image_of(near) {
+                    for (wrapped, shift) in self.images_of(near).into_iter().flatten() {
                         self.in_cell(wrapped, |i| test(&mut best, i, shift));
                     }
                 }
@@ -333,10 +341,15 @@ impl Queries {
                 None => (lo[k].max(0), hi[k].min(self.cells[k] - 1)),
             }
         };
-        let ((x0, x1), (y0, y1)) = (span(0), span(1));
+        let ((mut x0, mut x1), (y0, y1)) = (span(0), span(1));
+        if self.slide != 0.0 && y1 - y0 + 1 >= self.cells[1] {
+            // All rows of a Lees–Edwards box: some may be wanted both slid and not, so
+            // every cell (the distance decides).
+            (x0, x1) = (0, self.cells[0] - 1);
+        }
         for cy in y0..=y1 {
             for cx in x0..=x1 {
-                if let Some((cell, _)) = self.image_of([cx, cy]) {
+                for (cell, _) in self.images_of([cx, cy]).into_iter().flatten() {
                     self.in_cell(cell, &mut f);
                 }
             }
@@ -351,56 +364,72 @@ impl Queries {
         }
     }
 
-    /// The grid cell of an unbounded cell index and the shift of that copy of the box
-    /// (periodic), or the cell itself when in the grid (`None` outside it).
-    fn image_of(&self, cell: [i64; 2]) -> Option<([i64; 2], [f64; 2])> {
-        match self.period {
-            Some(size) => {
-                let wrapped = [
-                    cell[0].rem_euclid(self.cells[0]),
-                    cell[1].rem_euclid(self.cells[1]),
-                ];
-                let copies = [
-                    (cell[0] - wrapped[0]) / self.cells[0],
-                    (cell[1] - wrapped[1]) / self.cells[1],
-                ];
-                Some((
-                    wrapped,
-                    [copies[0] as f64 * size[0], copies[1] as f64 * size[1]],
-                ))
-            }
-            None => {
-                let inside = (0..2).all(|k| cell[k] >= 0 && cell[k] < self.cells[k]);
-                inside.then_some((cell, [0.0; 2]))
-            }
+    /// The grid cells that hold the discs of an unbounded cell index, each with the shift of
+    /// that copy of the box (periodic), or the cell itself when in the grid (nothing
+    /// outside it). In a Lees–Edwards box a copy above or below stands slid along x, so an
+    /// unbounded cell there covers parts of two of the grid's columns.
+    fn images_of(&self, cell: [i64; 2]) -> [Option<([i64; 2], [f64; 2])>; 2] {
+        let Some(size) = self.period else {
+            let inside = (0..2).all(|k| cell[k] >= 0 && cell[k] < self.cells[k]);
+            return [inside.then_some((cell, [0.0; 2])), None];
+        };
+        let row = cell[1].rem_euclid(self.cells[1]);
+        let up = (cell[1] - row) / self.cells[1];
+        // The copy `up` boxes above stands `up δ` along x: the cell's columns in the box's
+        // own coordinates.
+        let slid = up as f64 * self.slide;
+        let column = |c: i64| {
+            let wrapped = c.rem_euclid(self.cells[0]);
+            let across = (c - wrapped) / self.cells[0];
+            let shift = [across as f64 * size[0] + slid, up as f64 * size[1]];
+            ([wrapped, row], shift)
+        };
+        if slid == 0.0 {
+            return [Some(column(cell[0])), None];
         }
+        let left = self.origin[0] + cell[0] as f64 * self.width[0] - slid;
+        let first = ((left - self.origin[0]) / self.width[0]).floor() as i64;
+        [Some(column(first)), Some(column(first + 1))]
     }
 
-    /// A disc's centre less `point` (the minimum image in a periodic box).
+    /// A disc's centre less `point` (the minimum image in a periodic box, across the top
+    /// and bottom first in a Lees–Edwards box, whose copies there stand slid along x).
     fn offset(&self, i: usize, point: [f64; 2]) -> [f64; 2] {
         let mut d = [self.x[i] - point[0], self.y[i] - point[1]];
         if let Some(size) = self.period {
-            for k in 0..2 {
-                d[k] -= size[k] * (d[k] / size[k]).round();
+            let up = (d[1] / size[1]).round();
+            d[1] -= size[1] * up;
+            if self.slide != 0.0 {
+                d[0] -= up * self.slide;
             }
+            d[0] -= size[0] * (d[0] / size[0]).round();
         }
         d
     }
 
-    /// `point` moved into the periodic box (unchanged otherwise).
+    /// `point` moved into the periodic box (unchanged otherwise; in a Lees–Edwards box a
+    /// point moved across the top or bottom also moves back along x by the copy's slide).
     fn wrap(&self, point: [f64; 2]) -> [f64; 2] {
-        match self.period {
-            Some(size) => [0, 1].map(|k| {
-                let v = self.origin[k] + (point[k] - self.origin[k]).rem_euclid(size[k]);
-                // (Rounding can land on the upper edge.)
-                if v >= self.origin[k] + size[k] {
-                    self.origin[k]
-                } else {
-                    v
-                }
-            }),
-            None => point,
-        }
+        let Some(size) = self.period else {
+            return point;
+        };
+        let into = |v: f64, k: usize| {
+            let v = self.origin[k] + (v - self.origin[k]).rem_euclid(size[k]);
+            // (Rounding can land on the upper edge.)
+            if v >= self.origin[k] + size[k] {
+                self.origin[k]
+            } else {
+                v
+            }
+        };
+        let y = into(point[1], 1);
+        let up = ((point[1] - y) / size[1]).round();
+        let x = if self.slide != 0.0 && up != 0.0 {
+            point[0] - up * self.slide
+        } else {
+            point[0]
+        };
+        [into(x, 0), y]
     }
 
     fn cell_at_unclamped(&self, p: [f64; 2]) -> [i64; 2] {
@@ -479,117 +508,4 @@ fn ring_cells(home: [i64; 2], ring: i64) -> Vec<[i64; 2]> {
         out.push([home[0] + ring, home[1] + dy]);
     }
     out
-}
-
-/// Where the ray `origin + t direction` enters the disc of radius `r` around `c`: the
-/// smaller root `t >= 0`, or `None` when it misses or starts inside.
-fn entry(origin: [f64; 2], direction: [f64; 2], c: [f64; 2], r: f64) -> Option<f64> {
-    let m = [origin[0] - c[0], origin[1] - c[1]];
-    let a = direction[0] * direction[0] + direction[1] * direction[1];
-    let b = m[0] * direction[0] + m[1] * direction[1];
-    let cc = m[0] * m[0] + m[1] * m[1] - r * r;
-    if cc <= 0.0 || b >= 0.0 {
-        // Inside (or on the edge), or moving away.
-        return None;
-    }
-    let disc = b * b - a * cc;
-    if disc < 0.0 {
-        return None;
-    }
-    // The stable form of the smaller root (`b < 0`).
-    let q = -b + disc.sqrt();
-    Some(cc / q)
-}
-
-/// The cells a ray crosses, in order, with the ray's fraction on entering each (a grid
-/// walk in unbounded cell indices; outside a bounded grid it ends).
-struct Walk<'q> {
-    queries: &'q Queries,
-    cell: [i64; 2],
-    step: [i64; 2],
-    /// The fraction at which the ray crosses the next cell side, per axis, and per cell.
-    next: [f64; 2],
-    delta: [f64; 2],
-    t: f64,
-    end: f64,
-    /// Cells left to cross (a ray in a periodic box may never meet a disc).
-    left: u64,
-}
-
-impl<'q> Walk<'q> {
-    fn new(queries: &'q Queries, origin: [f64; 2], direction: [f64; 2], end: f64) -> Walk<'q> {
-        let mut t = 0.0;
-        let mut end = end;
-        if queries.period.is_none() {
-            // Clip to the grid's rectangle and one cell around it (a disc at the edge
-            // reaches into that ring).
-            for k in 0..2 {
-                let lo = queries.origin[k] - queries.width[k];
-                let hi = queries.origin[k] + queries.width[k] * (queries.cells[k] + 1) as f64;
-                if direction[k] == 0.0 {
-                    if origin[k] < lo || origin[k] > hi {
-                        end = -1.0;
-                    }
-                    continue;
-                }
-                let (a, b) = (
-                    (lo - origin[k]) / direction[k],
-                    (hi - origin[k]) / direction[k],
-                );
-                t = f64::max(t, a.min(b));
-                end = end.min(a.max(b));
-            }
-        }
-        let at = [origin[0] + t * direction[0], origin[1] + t * direction[1]];
-        let mut cell = queries.cell_at_unclamped(at);
-        if queries.period.is_none() {
-            cell = [0, 1].map(|k| cell[k].clamp(-1, queries.cells[k]));
-        }
-        let mut step = [0i64; 2];
-        let mut next = [f64::INFINITY; 2];
-        let mut delta = [f64::INFINITY; 2];
-        for k in 0..2 {
-            if direction[k] > 0.0 {
-                step[k] = 1;
-                let side = queries.origin[k] + (cell[k] + 1) as f64 * queries.width[k];
-                next[k] = (side - origin[k]) / direction[k];
-                delta[k] = queries.width[k] / direction[k];
-            } else if direction[k] < 0.0 {
-                step[k] = -1;
-                let side = queries.origin[k] + cell[k] as f64 * queries.width[k];
-                next[k] = (side - origin[k]) / direction[k];
-                delta[k] = -queries.width[k] / direction[k];
-            }
-        }
-        let cells = (queries.cells[0] * queries.cells[1]) as u64;
-        Walk {
-            queries,
-            cell,
-            step,
-            next,
-            delta,
-            t,
-            end,
-            left: 4 * cells + 64,
-        }
-    }
-
-    /// The next cell and the fraction the ray enters it at.
-    fn next(&mut self) -> Option<([i64; 2], f64)> {
-        if self.t > self.end || self.left == 0 {
-            return None;
-        }
-        self.left -= 1;
-        if self.queries.period.is_none()
-            && (0..2).any(|k| self.cell[k] < -1 || self.cell[k] > self.queries.cells[k])
-        {
-            return None;
-        }
-        let out = (self.cell, self.t);
-        let k = if self.next[0] < self.next[1] { 0 } else { 1 };
-        self.t = self.next[k];
-        self.next[k] += self.delta[k];
-        self.cell[k] += self.step[k];
-        Some(out)
-    }
 }
