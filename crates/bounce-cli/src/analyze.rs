@@ -97,7 +97,10 @@ pub fn analyze(request: &Request) -> Result<()> {
          in {}",
         request.trajectory.display(),
         snapshots.len(),
-        edges.name(),
+        match snapshots.first().and_then(|f| f.slide) {
+            Some(_) => "Lees–Edwards",
+            None => edges.name(),
+        },
         written.join(", "),
         request.out.display()
     );

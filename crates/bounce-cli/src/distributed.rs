@@ -52,7 +52,8 @@
 //! checkpoints: the same counts as one process.
 //!
 //! Not yet across ranks: obstacles, emitters, sinks, thermostats, the pressure tensor and
-//! collision counts, and the event-driven method (refused with a message). Rough discs
+//! collision counts, Lees–Edwards boxes, and the event-driven method (refused with a
+//! message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
 
@@ -186,6 +187,10 @@ fn check_supported(session: &Session) -> Result<()> {
         (config.thermostat.is_some(), "world.thermostat"),
         (config.pressure_tensor, "output.pressure_tensor"),
         (config.collision_counts, "output.collision_counts"),
+        (
+            config.boundary.is_sheared(),
+            "world.boundary = \"lees_edwards\"",
+        ),
     ];
     for (present, what) in refused {
         if present {

@@ -62,7 +62,7 @@ enum Command {
     },
     /// Write a commented scenario to start from (gas, pile, newtons-cradle, brownian,
     /// mixing, million, galton-board, hourglass, piston, effusion, angle-of-repose,
-    /// hard-discs, driven-granular).
+    /// hard-discs, driven-granular, shear).
     New {
         /// The template's name.
         template: String,

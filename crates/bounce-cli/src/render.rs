@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use bounce::{Boundary, Shape, World};
+use bounce::{Shape, World};
 use bounce_scenario::palette::Palette;
 use bounce_scenario::{ColorBy, Rgb};
 use tiny_skia::{
@@ -90,9 +90,7 @@ impl Painter {
         let mut pixmap = Pixmap::new(self.width, self.height).expect("size checked");
         pixmap.fill(rgb(BACKGROUND));
         let scale = self.width as f64 / (self.max[0] - self.min[0]);
-        if let Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } =
-            world.config().boundary
-        {
+        if let Some((min, max)) = world.config().boundary.bounds() {
             let (x0, y0) = self.to_pixel_f32(min[0], max[1]);
             let (x1, y1) = self.to_pixel_f32(max[0], min[1]);
             if let Some(rect) = Rect::from_ltrb(x0 + 0.5, y0 + 0.5, x1 - 0.5, y1 - 0.5) {

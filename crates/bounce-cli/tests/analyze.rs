@@ -1,5 +1,6 @@
 //! `bounce analyze` against theory: the hard-disc fluid's contact value (Henderson), g → 1
-//! far from contact, |ψ6| of a crystal and a fluid, g(r) between walls; and bad input.
+//! far from contact, |ψ6| of a crystal and a fluid, g(r) between walls and in a sheared
+//! (Lees–Edwards) box; and bad input.
 
 mod common;
 
@@ -114,6 +115,66 @@ fn the_hard_disc_fluid_touches_at_hendersons_contact_value_and_forgets_beyond_th
             "{png}"
         );
     }
+}
+
+#[test]
+fn a_gently_sheared_fluid_keeps_its_contact_value_through_the_sliding_images() {
+    // The shear template (packing 0.3, γ̇ σ √(m/kT) = 0.07): the structure is the fluid's,
+    // pairs across the top and bottom found at the frame's offset.
+    let scratch = Scratch::new();
+    let out = scratch.path("shear");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shear.toml");
+    run(&[
+        "run",
+        root.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "-q",
+        "--set",
+        "time.steps=12000",
+        "--set",
+        "output.gsd_every=100",
+        "--set",
+        "output.gif=false",
+        "--set",
+        "output.frame_every=0",
+        "--set",
+        "output.plots=false",
+    ]);
+    let analysis = scratch.path("analysis");
+    let gsd = out.join("trajectory.gsd");
+    let (code, said, err) = output(bounce().args([
+        "analyze",
+        gsd.to_str().unwrap(),
+        "--out",
+        analysis.to_str().unwrap(),
+        "--first",
+        "20",
+    ]));
+    assert_eq!(code, 0, "{said}{err}");
+    assert!(
+        said.contains("101 frames from frame 20 (Lees–Edwards box"),
+        "{said}"
+    );
+    // No MSD from sliding images, and the reason given.
+    assert!(
+        err.contains("no msd.csv") && err.contains("Lees–Edwards"),
+        "{err}"
+    );
+    assert!(!analysis.join("msd.csv").exists());
+    let g = columns(&analysis.join("rdf.csv"));
+    let near: Vec<&(f64, f64)> = g.iter().filter(|(r, _)| *r > 1.0 && *r < 1.1).collect();
+    let contact = near.iter().map(|p| p.1).sum::<f64>() / near.len() as f64;
+    let eta: f64 = 0.3;
+    let henderson = (1.0 - 7.0 * eta / 16.0) / (1.0 - eta).powi(2);
+    // (The mean over the first tenth of a diameter sits a little under the contact value.)
+    assert!(
+        (contact / henderson - 0.95).abs() < 0.05,
+        "g near contact {contact}, Henderson {henderson}"
+    );
+    let far: Vec<f64> = g.iter().filter(|(r, _)| *r > 3.0).map(|p| p.1).collect();
+    let mean = far.iter().sum::<f64>() / far.len() as f64;
+    assert!((mean - 1.0).abs() < 0.02, "g beyond 3 diameters {mean}");
 }
 
 #[test]

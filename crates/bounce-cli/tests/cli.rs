@@ -495,6 +495,7 @@ fn new_writes_templates_that_check_cleanly() {
         "angle-of-repose",
         "hard-discs",
         "driven-granular",
+        "shear",
     ] {
         let file = s.path(&format!("{name}.toml"));
         let (code, _, stderr) = output(bounce().args(["new", name, "--out"]).arg(&file));

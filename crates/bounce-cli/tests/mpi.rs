@@ -446,19 +446,19 @@ fn a_signal_stops_every_rank_with_its_outputs_and_a_checkpoint_that_resumes() {
 #[test]
 fn what_ranks_cannot_share_yet_is_refused_with_its_name() {
     let dir = tempfile::tempdir().unwrap();
-    for (set, name) in [
+    for (sets, name) in [
         (
-            "world.thermostat={ kind = \"rescale\", temperature = 1.0, rate = 1.0 }",
+            &["world.thermostat={ kind = \"rescale\", temperature = 1.0, rate = 1.0 }"][..],
             "world.thermostat",
         ),
-        ("time.method=\"event_driven\"", "time.method"),
+        (&["time.method=\"event_driven\""][..], "time.method"),
+        (
+            &["world.boundary=\"lees_edwards\"", "world.shear_rate=0.1"][..],
+            "world.boundary = \"lees_edwards\"",
+        ),
     ] {
-        let out = run(
-            Some(2),
-            "gas.toml",
-            &dir.path().join("out"),
-            &["--set", set],
-        );
+        let args: Vec<&str> = sets.iter().flat_map(|set| ["--set", set]).collect();
+        let out = run(Some(2), "gas.toml", &dir.path().join("out"), &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{name} ran under mpirun");
         assert!(

@@ -23,8 +23,9 @@ use serde::de::IntoDeserializer;
 ///
 /// Keywords: ``collision_radius_scale``, ``coefficient_of_restitution``, ``gravity``
 /// (``(gx, gy)``), ``substeps``, ``solver_iterations``, ``max_travel`` (``None`` or a
-/// fraction of the smallest radius), ``boundary`` (``"open"``, ``"walls"`` or
-/// ``"periodic"``), ``min`` and ``max`` (the box corners, for walls and periodic),
+/// fraction of the smallest radius), ``boundary`` (``"open"``, ``"walls"``,
+/// ``"periodic"`` or ``"lees_edwards"``, a periodic box under shear at ``shear_rate``),
+/// ``min`` and ``max`` (the box corners, for a box),
 /// ``wall_restitution`` (``None``: the coefficient of restitution), ``mass_model``
 /// (``"radius"``, ``"area"``, ``"per_particle"``), ``restitution_model``
 /// (``"scale_each_normal_velocity"``, ``"relative_normal_velocity"``) and
@@ -182,6 +183,7 @@ impl Config {
         let mut c = RustConfig::default();
         let mut boundary = "open".to_string();
         let (mut min, mut max, mut wall_restitution) = (None, None, None);
+        let mut shear_rate: Option<f64> = None;
         if let Some(kwargs) = kwargs {
             for (key, value) in kwargs.iter() {
                 let key: String = key.extract()?;
@@ -203,6 +205,7 @@ impl Config {
                     "min" => min = Some(pair(&key, v)?),
                     "max" => max = Some(pair(&key, v)?),
                     "wall_restitution" => wall_restitution = typed(&key, v, "None or a number")?,
+                    "shear_rate" => shear_rate = typed(&key, v, "None or a number")?,
                     "mass_model" => {
                         let name: String = typed(&key, v, "a string")?;
                         c.mass_model = option::<MassModel>(
@@ -299,12 +302,26 @@ impl Config {
                 min: corner("min", min)?,
                 max: corner("max", max)?,
             },
+            "lees_edwards" => Boundary::LeesEdwards {
+                min: corner("min", min)?,
+                max: corner("max", max)?,
+                shear_rate: shear_rate.ok_or_else(|| {
+                    PyValueError::new_err(
+                        "invalid config: `shear_rate` is missing: boundary = \"lees_edwards\" needs it",
+                    )
+                })?,
+            },
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "invalid config: `boundary` = {other:?}: must be one of \"open\", \"walls\", \"periodic\""
+                    "invalid config: `boundary` = {other:?}: must be one of \"open\", \"walls\", \"periodic\", \"lees_edwards\""
                 )));
             }
         };
+        if shear_rate.is_some() && !c.boundary.is_sheared() {
+            return Err(PyValueError::new_err(
+                "invalid config: `shear_rate` needs boundary = \"lees_edwards\"",
+            ));
+        }
         if wall_restitution.is_some() && !matches!(c.boundary, Boundary::Walls { .. }) {
             return Err(PyValueError::new_err(
                 "invalid config: `wall_restitution` needs boundary = \"walls\"",
@@ -352,32 +369,42 @@ impl Config {
         self.inner.max_travel
     }
 
-    /// ``"open"``, ``"walls"`` or ``"periodic"``.
+    /// ``"open"``, ``"walls"``, ``"periodic"`` or ``"lees_edwards"``.
     #[getter]
     pub(crate) fn boundary(&self) -> &'static str {
         match self.inner.boundary {
             Boundary::Open => "open",
             Boundary::Walls { .. } => "walls",
             Boundary::Periodic { .. } => "periodic",
+            Boundary::LeesEdwards { .. } => "lees_edwards",
+        }
+    }
+
+    /// The shear rate of a ``"lees_edwards"`` box (``None`` for any other boundary).
+    #[getter]
+    fn shear_rate(&self) -> Option<f64> {
+        match self.inner.boundary {
+            Boundary::LeesEdwards { shear_rate, .. } => Some(shear_rate),
+            _ => None,
         }
     }
 
     /// The lower-left corner of the box (``None`` in an open world).
     #[getter]
     fn min(&self) -> Option<(f64, f64)> {
-        match self.inner.boundary {
-            Boundary::Walls { min, .. } | Boundary::Periodic { min, .. } => Some((min[0], min[1])),
-            Boundary::Open => None,
-        }
+        self.inner
+            .boundary
+            .bounds()
+            .map(|(min, _)| (min[0], min[1]))
     }
 
     /// The upper-right corner of the box (``None`` in an open world).
     #[getter]
     fn max(&self) -> Option<(f64, f64)> {
-        match self.inner.boundary {
-            Boundary::Walls { max, .. } | Boundary::Periodic { max, .. } => Some((max[0], max[1])),
-            Boundary::Open => None,
-        }
+        self.inner
+            .boundary
+            .bounds()
+            .map(|(_, max)| (max[0], max[1]))
     }
 
     /// The walls' restitution (``None``: the coefficient of restitution).
@@ -527,6 +554,9 @@ impl Config {
         }
         if let Some(e) = self.wall_restitution() {
             parts.push(format!("wall_restitution={e:?}"));
+        }
+        if let Some(rate) = self.shear_rate() {
+            parts.push(format!("shear_rate={rate:?}"));
         }
         parts.push(format!("mass_model={:?}", self.mass_model()));
         parts.push(format!("restitution_model={:?}", self.restitution_model()));

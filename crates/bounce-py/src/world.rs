@@ -412,6 +412,21 @@ impl World {
         self.get().thermostat_work()
     }
 
+    /// Where a Lees–Edwards box's images above stand along x now (``shear_rate`` × height ×
+    /// time, brought into ``[-width/2, width/2)``); ``None`` in any other boundary.
+    #[getter]
+    fn lees_edwards_offset(&self) -> Option<f64> {
+        self.get().lees_edwards_offset()
+    }
+
+    /// The kinetic energy of the motion relative to the centre of mass and, in a
+    /// Lees–Edwards box, to the streaming velocity ``shear_rate (y − centre)``: ``N kT`` in
+    /// two dimensions, summed in id order.
+    #[getter]
+    fn peculiar_kinetic_energy(&self) -> f64 {
+        self.get().peculiar_kinetic_energy()
+    }
+
     /// The discs' energy now: kinetic, rotational and potential (in gravity), each summed
     /// in id order. The energy dissipated over an interval (by inelastic collisions and
     /// friction) is ``energy`` before, less ``energy`` after, plus the growth of

@@ -206,3 +206,29 @@ def test_the_energy_balance_from_python_is_stats_csvs_dissipated(tmp_path, bounc
     # The inelastic gas loses energy; the kicks' work is what the balance adds back.
     assert world.thermostat_work > 0 and min(dissipated) > 0
     assert dissipated == pytest.approx(expected, rel=1e-9)
+
+
+def test_a_lees_edwards_box_from_python_slides_its_images_and_keeps_the_flow():
+    # 20 × 20 at shear rate 0.05: the images above move at 1 along x.
+    config = bounce.Config(boundary="lees_edwards", min=(0, 0), max=(20, 20), shear_rate=0.05)
+    assert (config.boundary, config.shear_rate) == ("lees_edwards", 0.05)
+    assert "shear_rate=0.05" in repr(config)
+    world = bounce.World(config, dt=0.25)
+    # One disc leaving through the top: back at the bottom, moved back by the offset.
+    world.add_discs([[10.0, 19.9]], [[0.0, 1.0]], 0.5)
+    world.step()
+    assert world.lees_edwards_offset == pytest.approx(0.25)
+    (x, y), (vx, vy) = world.positions[0], world.velocities[0]
+    assert (x, y) == pytest.approx((9.75, 0.15)) and (vx, vy) == pytest.approx((-1.0, 1.0))
+    # Relative to the flow there (0.05 (0.15 − 10) ≈ −0.49) and to itself: no kinetic energy.
+    assert world.peculiar_kinetic_energy == pytest.approx(0.0, abs=1e-12)
+    assert bounce.World(bounce.Config(), dt=0.1).lees_edwards_offset is None
+    with pytest.raises(ValueError, match="shear_rate"):
+        bounce.Config(boundary="lees_edwards", min=(0, 0), max=(20, 20))
+    with pytest.raises(ValueError, match="shear_rate"):
+        bounce.Config(boundary="periodic", min=(0, 0), max=(20, 20), shear_rate=0.1)
+    with pytest.raises(ValueError, match="obstacles"):
+        bounce.Config(
+            boundary="lees_edwards", min=(0, 0), max=(20, 20), shear_rate=0.1,
+            obstacles=[bounce.Obstacle.peg((5, 5), 1.0)],
+        )

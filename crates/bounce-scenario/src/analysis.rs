@@ -66,12 +66,17 @@ pub fn motion_sums(world: &World) -> (f64, [f64; 2]) {
     (energy, momentum)
 }
 
-/// `kT` from the kinetic energy in the centre-of-mass frame: in 2D each disc carries `kT`.
+/// `kT` from the kinetic energy in the centre-of-mass frame (relative to the shear flow in a
+/// Lees–Edwards box): in 2D each disc carries `kT`.
 /// `total_mass` is the sum of [`masses`] (kept by callers, since masses do not change).
 pub fn temperature(world: &World, total_mass: f64) -> f64 {
     let n = world.len();
     if n == 0 || total_mass <= 0.0 {
         return 0.0;
+    }
+    if world.config().boundary.is_sheared() {
+        // Relative to the shear flow, not only the drift.
+        return (world.peculiar_kinetic_energy() / n as f64).max(0.0);
     }
     let (energy, momentum) = motion_sums(world);
     let drift_energy = (momentum[0].powi(2) + momentum[1].powi(2)) / (2.0 * total_mass);

@@ -9,7 +9,9 @@
 //! Each frame holds the `hoomd` schema chunks `configuration/{step,dimensions,box}` and
 //! `particles/{N,position,velocity,diameter,mass,image,typeid,types}` with particles in id
 //! order, and `log/kinetic_energy`; in frame 0, `log/bounce/boundary` (a `uint8`: 0 an open
-//! world, 1 walls, 2 a periodic box: how `bounce analyze` reads the box); where any disc has
+//! world, 1 walls, 2 a periodic box, 3 a Lees–Edwards box: how `bounce analyze` reads the
+//! box), and in a Lees–Edwards box `log/bounce/lees_edwards_offset` in every frame (a
+//! `float64`: where the copy above stands along x); where any disc has
 //! a tag (`Particle::tag`), `log/particles/tag` (`uint64`, id order); with collision counts
 //! (`bounce::Config::collision_counts`), `log/particles/bounce/collisions` (`uint64`, id
 //! order: each disc's collisions so far). Where discs turn (rough or spinning), also
@@ -386,12 +388,17 @@ impl GsdWriter {
         }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
+        if let Some(offset) = world.lees_edwards_offset() {
+            let chunk = crate::trajectory::SLIDE_CHUNK;
+            self.chunk(chunk, Type::F64, 1, 1, &offset.to_le_bytes())?;
+        }
         if self.frame == 0 {
             // How the box ends, for `bounce analyze` (HOOMD's boxes are all periodic).
             let edges: u8 = match world.config().boundary {
                 Boundary::Open => 0,
                 Boundary::Walls { .. } => 1,
                 Boundary::Periodic { .. } => 2,
+                Boundary::LeesEdwards { .. } => 3,
             };
             self.chunk(crate::trajectory::BOUNDARY_CHUNK, Type::U8, 1, 1, &[edges])?;
         }
@@ -500,7 +507,9 @@ pub const COLLISIONS_CHUNK: &str = "log/particles/bounce/collisions";
 
 fn box_of(world: &World) -> ([f64; 2], [f64; 2]) {
     match world.config().boundary {
-        Boundary::Walls { min, max, .. } | Boundary::Periodic { min, max } => (
+        Boundary::Walls { min, max, .. }
+        | Boundary::Periodic { min, max }
+        | Boundary::LeesEdwards { min, max, .. } => (
             [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
             [max[0] - min[0], max[1] - min[1]],
         ),

@@ -41,7 +41,7 @@ pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
-pub const TEMPLATES: [(&str, &str); 13] = [
+pub const TEMPLATES: [(&str, &str); 14] = [
     ("gas", include_str!("../../../scenarios/gas.toml")),
     ("pile", include_str!("../../../scenarios/pile.toml")),
     (
@@ -73,6 +73,7 @@ pub const TEMPLATES: [(&str, &str); 13] = [
         "driven-granular",
         include_str!("../../../scenarios/driven-granular.toml"),
     ),
+    ("shear", include_str!("../../../scenarios/shear.toml")),
 ];
 
 /// A parsed scenario file.
@@ -129,9 +130,12 @@ pub struct Scenario {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorldSpec {
-    /// `walls` (default), `periodic` or `open`.
+    /// `walls` (default), `periodic`, `lees_edwards` (a sheared periodic box) or `open`.
     #[serde(default = "default_boundary")]
     pub boundary: BoundaryKind,
+    /// The shear rate `γ̇` of a `lees_edwards` box (required there, refused elsewhere).
+    #[serde(default)]
+    pub shear_rate: Option<f64>,
     /// Lower-left corner of the box (required unless open).
     #[serde(default)]
     pub min: Option<[f64; 2]>,
@@ -197,6 +201,9 @@ pub enum BoundaryKind {
     Walls,
     /// A periodic box `[min, max)`.
     Periodic,
+    /// A periodic box `[min, max)` under simple shear: its images above and below slide at
+    /// `±shear_rate` times its height (`bounce::Boundary::LeesEdwards`).
+    LeesEdwards,
     /// No boundary.
     Open,
 }
@@ -285,6 +292,11 @@ pub struct GasSpec {
     /// triangular lattice filling the region: dense liquids up to packing 0.9 once melted).
     #[serde(default)]
     pub placement: Placement,
+    /// Add the Lees–Edwards box's streaming velocity, `shear_rate (y − centre)` along x, to
+    /// each disc: the sheared flow from the start (otherwise the sliding images drive it
+    /// in, by viscosity, slowly); default false, only with `boundary = "lees_edwards"`.
+    #[serde(default)]
+    pub streaming: bool,
     /// Remove the net momentum the random velocities leave (then add `drift`); default false.
     #[serde(default)]
     pub zero_momentum: bool,
@@ -890,6 +902,11 @@ impl Scenario {
                     wall_restitution: w.wall_restitution,
                 },
                 BoundaryKind::Periodic => Boundary::Periodic { min, max },
+                BoundaryKind::LeesEdwards => Boundary::LeesEdwards {
+                    min,
+                    max,
+                    shear_rate: w.shear_rate.unwrap_or(0.0),
+                },
                 BoundaryKind::Open => Boundary::Open,
             },
             mass_model: w.mass_model,
@@ -1074,6 +1091,43 @@ impl Scenario {
                         format!("world.{key} is required with boundary = {:?}", w.boundary),
                     );
                 }
+            }
+        }
+        let sheared = w.boundary == BoundaryKind::LeesEdwards;
+        if sheared && w.shear_rate.is_none() {
+            at(
+                line_of_key(source, "world", "boundary"),
+                "world.shear_rate is required with boundary = \"lees_edwards\"".into(),
+            );
+        }
+        if !sheared && let Some(rate) = w.shear_rate {
+            at(
+                line_of_key(source, "world", "shear_rate"),
+                format!(
+                    "world.shear_rate = {rate}: only with boundary = \"lees_edwards\" (this is \
+                     {:?})",
+                    w.boundary
+                ),
+            );
+        }
+        if sheared && self.output.msd {
+            at(
+                line_of_key(source, "output", "msd"),
+                "output.msd: not in a Lees–Edwards box yet (its images slide, so image counts \
+                 do not unwrap the positions)"
+                    .into(),
+            );
+        }
+        for (k, g) in self.gas.iter().enumerate() {
+            if g.get_ref().streaming && !sheared {
+                at(
+                    Some(lines.at(g.span().start)),
+                    format!(
+                        "gas #{}: streaming = true needs boundary = \"lees_edwards\" (the flow \
+                         it adds is the sheared box's)",
+                        k + 1
+                    ),
+                );
             }
         }
         for (k, o) in self.obstacle.iter().enumerate() {
@@ -1418,6 +1472,12 @@ impl Scenario {
                     .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
                     if spec.zero_momentum {
                         scene::zero_momentum(&mut discs, &config, spec.drift);
+                    }
+                    if spec.streaming {
+                        for d in &mut discs {
+                            let flow = config.boundary.streaming_velocity(d.position[1]);
+                            d.velocity[0] += flow.unwrap_or(0.0);
+                        }
                     }
                     if spec.spin != 0.0 {
                         scene::spin(&mut discs, spec.spin, spec.seed);

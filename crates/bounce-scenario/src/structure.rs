@@ -65,6 +65,10 @@ pub struct Snapshot {
     pub position: Vec<[f64; 2]>,
     /// Each disc's periodic box crossings (zero outside a periodic box).
     pub image: Vec<[i32; 2]>,
+    /// In a Lees–Edwards box, how far along x the images above stand in this frame (the
+    /// images below stand at minus it): distances take the sliding minimum image. `None`
+    /// in any other box.
+    pub slide: Option<f64>,
     /// Each disc's diameter.
     pub diameter: Vec<f64>,
 }
@@ -76,7 +80,8 @@ impl Snapshot {
     pub fn of(world: &bounce::World) -> Snapshot {
         let by_id = world.particles_by_id();
         let (centre, size, edges) = match world.config().boundary {
-            bounce::Boundary::Periodic { min, max } => (min, max, Edges::Periodic),
+            bounce::Boundary::Periodic { min, max }
+            | bounce::Boundary::LeesEdwards { min, max, .. } => (min, max, Edges::Periodic),
             bounce::Boundary::Walls { min, max, .. } => (min, max, Edges::Walls),
             bounce::Boundary::Open => ([0.0; 2], [0.0; 2], Edges::Open),
         };
@@ -94,6 +99,7 @@ impl Snapshot {
         };
         Snapshot {
             step: world.step_count(),
+            slide: world.lees_edwards_offset(),
             size,
             edges,
             position: (by_id.iter())
@@ -144,16 +150,33 @@ impl Snapshot {
         }
     }
 
-    /// The vector from disc `i` to disc `j` (the minimum image in a periodic box).
+    /// The vector from disc `i` to disc `j` (the minimum image in a periodic box: across
+    /// the top and bottom first, which in a Lees–Edwards box also slides x).
     fn bond(&self, i: usize, j: usize) -> [f64; 2] {
         let (p, q) = (self.position[i], self.position[j]);
         let mut d = [q[0] - p[0], q[1] - p[1]];
         if self.edges == Edges::Periodic {
-            for (d, l) in d.iter_mut().zip(self.size) {
-                *d -= l * (*d / l).round();
+            let [lx, ly] = self.size;
+            let up = (d[1] / ly).round();
+            d[1] -= ly * up;
+            if let Some(slide) = self.slide {
+                d[0] -= up * slide;
             }
+            d[0] -= lx * (d[0] / lx).round();
         }
         d
+    }
+
+    /// `p` brought into a Lees–Edwards box across its top or bottom (x slid with it), so a
+    /// cell grid sees each disc where its image in the box is; `p` itself otherwise.
+    fn in_box(&self, p: [f64; 2]) -> [f64; 2] {
+        match (self.edges, self.slide) {
+            (Edges::Periodic, Some(slide)) => {
+                let up = (p[1] / self.size[1]).round();
+                [p[0] - up * slide, p[1] - up * self.size[1]]
+            }
+            _ => p,
+        }
     }
 }
 
@@ -175,6 +198,9 @@ struct Cells {
     extent: [f64; 2],
     count: [usize; 2],
     periodic: bool,
+    /// A Lees–Edwards frame: the rows across the top and bottom are slid, so a disc's
+    /// neighbours there may be in any column.
+    sheared: bool,
     /// `first[c]..first[c + 1]` indexes `members` for cell `c`.
     first: Vec<usize>,
     members: Vec<usize>,
@@ -201,6 +227,7 @@ impl Cells {
             extent,
             count,
             periodic,
+            sheared: periodic && frame.slide.is_some(),
             first: Vec::new(),
             members: Vec::new(),
         };
@@ -208,7 +235,7 @@ impl Cells {
             .position
             .iter()
             .map(|&p| {
-                let [cx, cy] = cells.cell(p);
+                let [cx, cy] = cells.cell(frame.in_box(p));
                 cy * count[0] + cx
             })
             .collect();
@@ -265,7 +292,14 @@ impl Cells {
         }
         for cy in ranges[1].0..=ranges[1].1 {
             let y = cy.rem_euclid(self.count[1] as i64) as usize;
-            for cx in ranges[0].0..=ranges[0].1 {
+            // (Rows that wrap all the way round are wanted slid and not: every cell.)
+            let whole = ranges[1].1 - ranges[1].0 + 1 >= self.count[1] as i64;
+            let across = self.sheared && (whole || cy < 0 || cy >= self.count[1] as i64);
+            let columns = match across {
+                true => (0, self.count[0] as i64 - 1),
+                false => ranges[0],
+            };
+            for cx in columns.0..=columns.1 {
                 let x = cx.rem_euclid(self.count[0] as i64) as usize;
                 let c = y * self.count[0] + x;
                 for &j in &self.members[self.first[c]..self.first[c + 1]] {
@@ -334,7 +368,7 @@ impl Rdf {
         let bins = self.pairs.len();
         let width = self.r_max / bins as f64;
         for i in 0..n {
-            cells.visit(frame.position[i], self.r_max, |j| {
+            cells.visit(frame.in_box(frame.position[i]), self.r_max, |j| {
                 if j <= i {
                     return;
                 }
@@ -363,6 +397,11 @@ impl Rdf {
             };
         }
         Ok(())
+    }
+
+    /// The ordered pairs counted in each bin, over the frames added (each pair twice).
+    pub fn pairs(&self) -> &[u64] {
+        &self.pairs
     }
 
     /// The bins' centres and g there (0 where no frame could hold a pair).
@@ -456,7 +495,7 @@ pub fn psi6(frame: &Snapshot) -> f64 {
         let mut r = reach;
         loop {
             near.clear();
-            cells.visit(frame.position[i], r, |j| {
+            cells.visit(frame.in_box(frame.position[i]), r, |j| {
                 if j != i {
                     let [dx, dy] = frame.bond(i, j);
                     let d2 = dx * dx + dy * dy;
@@ -491,6 +530,13 @@ pub fn msd(frames: &[Snapshot]) -> Result<(Vec<u64>, Vec<f64>), String> {
     let Some(first) = frames.first() else {
         return Err("no frames".into());
     };
+    if frames.iter().any(|f| f.slide.is_some()) {
+        return Err(
+            "a Lees–Edwards box's images slide, so image counts do not unwrap its positions: \
+             no MSD from its frames yet"
+                .into(),
+        );
+    }
     let n = first.position.len();
     if n == 0 {
         return Err(format!("frame at step {} holds no discs", first.step));
@@ -560,6 +606,7 @@ mod tests {
             size,
             edges,
             position,
+            slide: None,
             image: vec![[0, 0]; n],
             diameter: vec![1.0; n],
         }

@@ -3,8 +3,9 @@
 //! diameters, in the file's particle order.
 //!
 //! The box's edges are what bounce wrote in frame 0's `log/bounce/boundary` (0 an open
-//! world, 1 walls, 2 a periodic box); a file without it (HOOMD-blue's, or bounce's before
-//! it was written) is periodic, as every HOOMD box is. A caller may say otherwise.
+//! world, 1 walls, 2 a periodic box, 3 a Lees–Edwards box, whose offset each frame records
+//! in `log/bounce/lees_edwards_offset`); a file without it (HOOMD-blue's, or bounce's
+//! before it was written) is periodic, as every HOOMD box is. A caller may say otherwise.
 
 use std::path::Path;
 
@@ -14,6 +15,9 @@ use crate::structure::{Edges, Snapshot};
 
 /// The chunk naming the box's edges (see the module docs).
 pub const BOUNDARY_CHUNK: &str = "log/bounce/boundary";
+/// The chunk holding a Lees–Edwards box's offset in each frame (`float64`: how far along x
+/// the images above stand).
+pub const SLIDE_CHUNK: &str = "log/bounce/lees_edwards_offset";
 
 /// An open GSD file and its index.
 pub struct Trajectory {
@@ -22,6 +26,8 @@ pub struct Trajectory {
     entries: Vec<RawEntry>,
     frames: u64,
     edges: Edges,
+    /// The file's box is a Lees–Edwards one.
+    sheared: bool,
     name: String,
 }
 
@@ -43,6 +49,7 @@ impl Trajectory {
             entries,
             frames,
             edges: Edges::Periodic,
+            sheared: false,
             name,
         };
         if let Some(c) = find(&trajectory.names, &trajectory.entries, BOUNDARY_CHUNK, 0) {
@@ -53,10 +60,14 @@ impl Trajectory {
                 (1, 0) => Edges::Open,
                 (1, 1) => Edges::Walls,
                 (1, 2) => Edges::Periodic,
+                (1, 3) => {
+                    trajectory.sheared = true;
+                    Edges::Periodic
+                }
                 (_, v) => {
                     return Err(format!(
                         "{}: {BOUNDARY_CHUNK} is {v} (type {kind}); expected a uint8 0 \
-                         (open), 1 (walls) or 2 (periodic)",
+                         (open), 1 (walls), 2 (periodic) or 3 (Lees–Edwards)",
                         trajectory.name
                     ));
                 }
@@ -174,11 +185,18 @@ impl Trajectory {
         {
             return Err(format!("particle {bad}'s position is not finite"));
         }
+        // A Lees–Edwards frame's offset (read as periodic, the box slides).
+        let slide = match (self.sheared && edges == Edges::Periodic, chunk(SLIDE_CHUNK)) {
+            (true, Some(c)) => Some(floats(&mut self.file, c, SLIDE_CHUNK, 1, 1)?[0]),
+            (true, None) => return Err(format!("no {SLIDE_CHUNK} in a Lees–Edwards file")),
+            (false, _) => None,
+        };
         Ok(Snapshot {
             step,
             size,
             edges,
             position,
+            slide,
             image,
             diameter,
         })

@@ -7,7 +7,7 @@
 use bounce_scenario::Session;
 
 /// `(template, state hash after 200 steps)`.
-const TEMPLATES: [(&str, u64); 11] = [
+const TEMPLATES: [(&str, u64); 12] = [
     ("gas", 0xfdc4_568d_6ad9_5664),
     ("pile", 0xc60b_c57a_5279_98e3),
     ("galton-board", 0x2bd2_e9c4_9649_5597),
@@ -19,6 +19,7 @@ const TEMPLATES: [(&str, u64); 11] = [
     ("angle-of-repose", 0xd5d8_e402_b960_a77e),
     ("hard-discs", 0xcf9f_e852_1ac6_86d2),
     ("driven-granular", 0xd561_eedd_c9c3_8411),
+    ("shear", 0x00b5_1639_5809_7a16),
 ];
 
 fn hash_after(name: &str, threads: usize, steps: usize) -> u64 {

@@ -478,6 +478,13 @@ impl ViewerApp {
             ui.monospace(format!("{:016x}", self.session.world.state_hash()));
             ui.end_row();
             let world = &self.session.world;
+            if let (bounce::Boundary::LeesEdwards { shear_rate, .. }, Some(offset)) =
+                (&world.config().boundary, world.lees_edwards_offset())
+            {
+                ui.label("shear (Lees–Edwards)");
+                ui.label(format!("γ̇ = {shear_rate} · images at {offset:+.3}"));
+                ui.end_row();
+            }
             if world.config().contact_events {
                 ui.label("contacts begun / step");
                 let begun = (world.contact_events().iter())

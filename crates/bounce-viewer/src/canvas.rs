@@ -12,6 +12,8 @@ pub use bounce_scenario::palette::Palette;
 /// Background of the picture.
 pub const BACKGROUND: Rgb = [17, 20, 26];
 const BOX_EDGE: Rgb = [90, 96, 110];
+/// The marks where a Lees–Edwards box's sliding images stand.
+const SLIDE_MARK: Rgb = [230, 170, 60];
 /// Sensor outlines.
 pub const SENSOR: Rgb = [110, 150, 230];
 /// Impacts of the last step (contact events' begins).
@@ -119,6 +121,18 @@ impl Raster {
             for y in y0.max(0)..=y1.min(h as isize - 1) {
                 self.put(x0, y, BOX_EDGE);
                 self.put(x1, y, BOX_EDGE);
+            }
+            if let Some(offset) = world.lees_edwards_offset() {
+                // Where the sliding images' corners stand: the one above at `min + δ` on the
+                // top edge, the one below at `min − δ` on the bottom edge (each wrapped).
+                let width = max[0] - min[0];
+                let tick = 0.03 * (max[1] - min[1]);
+                for (edge, shift, inward) in [(max[1], offset, -tick), (min[1], -offset, tick)] {
+                    let x = min[0] + (shift).rem_euclid(width);
+                    let a = view.to_pixel([x, edge], w, h);
+                    let b = view.to_pixel([x, edge + inward], w, h);
+                    self.line(a, b, SLIDE_MARK);
+                }
             }
         }
         // Emitter regions outlined in green, sinks in red.
@@ -355,6 +369,32 @@ mod tests {
         assert_eq!(at([2.0, 5.0]), [90, 170, 110], "the emitter's left edge");
         assert_eq!(at([16.0, 2.0]), [190, 90, 90], "the sink's bottom edge");
         assert_eq!(at([16.0, 5.0]), BACKGROUND, "inside the sink");
+    }
+
+    #[test]
+    fn a_sheared_box_marks_where_its_sliding_copies_stand() {
+        // 20 × 10 at shear rate 0.2: the copy above moves at 2; after 1.5 it stands 3 along.
+        let mut world = World::new(Config {
+            boundary: Boundary::lees_edwards([0.0, 0.0], [20.0, 10.0], 0.2),
+            ..Config::default()
+        })
+        .unwrap();
+        world.step(1.5).unwrap();
+        let view = View {
+            centre: [10.0, 5.0],
+            scale: 10.0,
+        };
+        let mut raster = Raster::new(200, 100);
+        raster.draw(&world, &view, &by_speed(), &[]);
+        let at = |p: [f64; 2]| {
+            let [x, y] = view.to_pixel(p, 200, 100);
+            let k = (y as usize * 200 + x as usize) * 4;
+            [raster.pixels[k], raster.pixels[k + 1], raster.pixels[k + 2]]
+        };
+        // Just inside the top edge at x = 3, and the bottom edge at x = −3 → 17.
+        assert_eq!(at([3.0, 9.85]), SLIDE_MARK, "the copy above");
+        assert_eq!(at([17.0, 0.15]), SLIDE_MARK, "the copy below");
+        assert_eq!(at([8.0, 9.85]), BACKGROUND, "nothing elsewhere");
     }
 
     #[test]

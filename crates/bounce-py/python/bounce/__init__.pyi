@@ -159,10 +159,11 @@ class Config:
         substeps: int = ...,
         solver_iterations: int = ...,
         max_travel: Optional[float] = ...,
-        boundary: Literal["open", "walls", "periodic"] = ...,
+        boundary: Literal["open", "walls", "periodic", "lees_edwards"] = ...,
         min: Optional[_Pair] = ...,
         max: Optional[_Pair] = ...,
         wall_restitution: Optional[float] = ...,
+        shear_rate: Optional[float] = ...,
         mass_model: Literal["radius", "area", "per_particle"] = ...,
         restitution_model: Literal["scale_each_normal_velocity", "relative_normal_velocity"] = ...,
         velocity_update: Literal["all_detected", "approaching_only"] = ...,
@@ -199,7 +200,9 @@ class Config:
     @property
     def max_travel(self) -> Optional[float]: ...
     @property
-    def boundary(self) -> Literal["open", "walls", "periodic"]: ...
+    def boundary(self) -> Literal["open", "walls", "periodic", "lees_edwards"]: ...
+    @property
+    def shear_rate(self) -> Optional[float]: ...
     @property
     def min(self) -> Optional[_Pair]: ...
     @property
@@ -323,6 +326,10 @@ class World:
     def obstacle_impulses(self) -> npt.NDArray[np.float64]: ...
     @property
     def thermostat_work(self) -> float: ...
+    @property
+    def lees_edwards_offset(self) -> Optional[float]: ...
+    @property
+    def peculiar_kinetic_energy(self) -> float: ...
     @property
     def energy(self) -> float: ...
     @property
