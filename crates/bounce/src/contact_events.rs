@@ -59,6 +59,11 @@ pub enum WallSide {
 
 impl WallSide {
     /// Left, right, bottom, top.
+    ///
+    /// ```
+    /// use bounce::WallSide;
+    /// assert_eq!(WallSide::ALL.map(|w| w.name()), ["left", "right", "bottom", "top"]);
+    /// ```
     pub const ALL: [WallSide; 4] = [
         WallSide::Left,
         WallSide::Right,
@@ -192,7 +197,8 @@ pub(crate) struct Touch {
 /// The contacts of the last substep, and the events of the last step: what turns the
 /// contacts seen in each substep into `begin` and `end` events. Every [`crate::World`] keeps
 /// one; a distributed run keeps the whole world's on one rank, fed with the parts' sightings
-/// ([`crate::World::take_contact_sightings`], [`ContactLog::record_step`]).
+/// ([`crate::World::take_contact_sightings`], [`ContactLog::record_step`]). See
+/// [`ContactLog::record_step`] for an example.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ContactLog {
     /// The last substep's contacts, by `(a, b)`.

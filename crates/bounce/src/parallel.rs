@@ -17,7 +17,8 @@ pub(crate) const CHUNK: usize = 4096;
 /// waking the pool costs more than it saves. Results never depend on where work runs.
 /// (A world this large runs its whole step on the pool, see `Installer`, so no hand-over
 /// is paid per stage: from a few ten thousand discs on a second thread pays, near 10,000 it
-/// breaks even or loses; BENCHMARKS.md has the gas at 10k and 100k.)
+/// breaks even or loses; BENCHMARKS.md has the gas at 10k and 100k.) See
+/// [`crate::World::set_parallel_min_work`] for an example.
 pub const DEFAULT_PARALLEL_MIN_WORK: usize = 8_192;
 
 /// Where the step's work runs: the calling thread, or a rayon pool of a fixed size.
@@ -37,7 +38,7 @@ impl Default for Executor {
     }
 }
 
-/// The thread pool could not be created.
+/// The thread pool could not be created. See [`crate::World::set_threads`] for an example.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("cannot start {threads} worker threads: {reason}")]
 pub struct ThreadsError {

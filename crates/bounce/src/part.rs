@@ -48,7 +48,7 @@ struct Span {
 impl Tally {
     /// Events with `lo <= v < hi` along each axis (`x` then `y`), `v` first wrapped into
     /// `[min, min + size)` where that axis's `period` is `Some((min, size))`. Use infinite
-    /// ends at the world's edges.
+    /// ends at the world's edges. See [`Tally`] for an example.
     pub fn new(x: [f64; 2], y: [f64; 2], period: [Option<(f64, f64)>; 2]) -> Tally {
         let span = |[lo, hi]: [f64; 2], period| Span { lo, hi, period };
         Tally {
@@ -71,7 +71,7 @@ impl Tally {
 
 /// `v` wrapped into `[min, min + size)` by the periodic box's own wrap (the one integration
 /// applies, `geometry::wrap`, so a stored position is its own wrap): the one formula every
-/// rank uses to say which region a place is in.
+/// rank uses to say which region a place is in. See [`Tally`] for an example.
 #[inline]
 pub fn wrap_coordinate(v: f64, min: f64, size: f64) -> f64 {
     let mut v = v;
@@ -84,7 +84,7 @@ pub fn wrap_coordinate(v: f64, min: f64, size: f64) -> f64 {
 /// candidates). No per-disc state: a distributed run asks this instead of remembering where
 /// each of its discs was. Distances are as measured (from `f32` reference positions: within
 /// about 10^-7 of the box's size), and the pushes of the step's last pass are seen at the
-/// next integration.
+/// next integration. See [`crate::World::regroup`] for an example.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Travel {
     /// How far any disc can be from where it was when the world was made.

@@ -245,7 +245,8 @@ impl WallSums {
         }
     }
 
-    /// Merges another set of sums (exactly, as [`ExactSum::merge`]).
+    /// Merges another set of sums (exactly, as [`ExactSum::merge`]). See [`StepSums`] for
+    /// an example.
     pub fn merge(&mut self, other: &WallSums) {
         for (mine, theirs) in self.walls.iter_mut().zip(&other.walls) {
             mine.merge(theirs);

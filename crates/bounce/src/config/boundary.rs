@@ -124,12 +124,22 @@ impl Boundary {
         }
     }
 
-    /// Whether this is a sheared (Lees–Edwards) box.
+    /// Whether this is a sheared (Lees–Edwards) box. See [`Boundary::is_periodic`] for an
+    /// example.
     pub fn is_sheared(&self) -> bool {
         matches!(self, Boundary::LeesEdwards { .. })
     }
 
     /// Whether positions wrap (a periodic box, sheared or not).
+    ///
+    /// ```
+    /// use bounce::Boundary;
+    /// let sheared = Boundary::lees_edwards([0.0, 0.0], [10.0, 10.0], 0.1);
+    /// assert!(sheared.is_periodic() && sheared.is_sheared());
+    /// let plain = Boundary::periodic([0.0, 0.0], [10.0, 10.0]);
+    /// assert!(plain.is_periodic() && !plain.is_sheared());
+    /// assert!(!Boundary::walls([0.0, 0.0], [10.0, 10.0]).is_periodic());
+    /// ```
     pub fn is_periodic(&self) -> bool {
         matches!(
             self,

@@ -154,7 +154,8 @@ pub struct Config {
     pub thermostat: Option<Thermostat>,
 }
 
-/// The most substeps a step may have ([`Config::substeps`]).
+/// The most substeps a step may have ([`Config::substeps`]). See [`ConfigError`] for an
+/// example.
 pub const MAX_SUBSTEPS: u32 = 10_000;
 
 impl Default for Config {

@@ -187,7 +187,8 @@ pub(super) fn cell_width(law: &Law, max_radius: f64) -> f64 {
 
 /// The order grid's cell width for discs up to `max_radius` under `config` (a periodic box
 /// rounds it up to fit a whole number of cells): how far a contact reaches, and the unit in
-/// which a distributed run measures its ghost layers.
+/// which a distributed run measures its ghost layers. See [`order_block_start`] for an
+/// example.
 pub fn order_cell_width(config: &crate::Config, max_radius: f64) -> f64 {
     cell_width(&Law::new(config), max_radius)
 }
@@ -195,6 +196,16 @@ pub fn order_cell_width(config: &crate::Config, max_radius: f64) -> f64 {
 /// Where the order block holding coordinate `v` along `axis` (0: x, 1: y) begins, for discs
 /// up to `max_radius` under `config`: a distributed run cuts its domains there, so each
 /// block's contacts are resolved and counted by one rank.
+///
+/// ```
+/// use bounce::{Config, order_block_start, order_cell_width};
+/// let config = Config::default();
+/// // Discs up to radius 0.5: cells 1.01 wide, blocks of two cells.
+/// let cell = order_cell_width(&config, 0.5);
+/// assert!((cell - 1.01).abs() < 1e-12);
+/// let start = order_block_start(&config, 0.5, 0, 5.3);
+/// assert!(start <= 5.3 && 5.3 < start + 2.0 * cell);
+/// ```
 pub fn order_block_start(config: &crate::Config, max_radius: f64, axis: usize, v: f64) -> f64 {
     let grid = OrderGrid::new(&Geometry::new(config), &Law::new(config), max_radius);
     let axis = &grid.0[axis.min(1)];

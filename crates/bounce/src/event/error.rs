@@ -63,5 +63,5 @@ pub enum EventError {
 /// Events per disc one step (of [`crate::World::step`]) may take before it is refused with
 /// [`EventError::TooManyEvents`]: far beyond a useful observation interval, well before a
 /// run that looks hung. [`crate::World::step`] then stops with [`EventError::TooManyEvents`],
-/// naming the time reached.
+/// naming the time reached. See [`EventError`] for an example.
 pub const MAX_EVENTS_PER_DISC: u64 = 10_000;

@@ -392,7 +392,8 @@ impl EventDriven {
 
     /// [`EventDriven::advance`] that gives up with [`EventError::TooManyEvents`] past
     /// `budget` events, and with [`EventError::Interrupted`] when `interrupt` is set
-    /// non-zero (read every 65,536 events). Either leaves the world part of the way.
+    /// non-zero (read every 65,536 events). Either leaves the world part of the way. See
+    /// [`EventDriven`] for an example.
     pub fn advance_within(
         &mut self,
         dt: f64,

@@ -26,11 +26,27 @@ pub(crate) use wall::{hold, reflect, rub_walls, touch_walls};
 /// The normal used when two centres coincide (distance 0): `+x`. The seed divides by the
 /// distance there; any fixed unit vector keeps the result finite and deterministic, and `+x`
 /// pushes the first disc of the pair to the right.
+///
+/// ```
+/// use bounce::{Config, law::{Body, COINCIDENT_NORMAL, Law}};
+/// // Two equal discs on the same spot: pushed apart along ±x, half the overlap (2) each.
+/// let (a, b) = (Body::new([0.0, 0.0], 1.0, 1.0), Body::new([0.0, 0.0], 1.0, 1.0));
+/// let out = Law::new(&Config::default()).resolve([0.0, 0.0], &a, &b);
+/// assert_eq!(out.push, [COINCIDENT_NORMAL[0], COINCIDENT_NORMAL[1]]);
+/// ```
 pub const COINCIDENT_NORMAL: [f64; 2] = [1.0, 0.0];
 
 /// The largest collision distance a disc may have with its like, `2 r collision_radius_scale`:
 /// the detection rule compares squared distances, and `1e150²` is still far inside `f64`
 /// (its largest is about `1.8e308`), with room for the sums of two such reaches.
+///
+/// ```
+/// use bounce::{Config, Particle, ParticleError, World, law::MAX_INTERACTION_DIAMETER};
+/// let mut world = World::new(Config::default())?;
+/// let huge = Particle::new([0.0, 0.0], [0.0, 0.0], MAX_INTERACTION_DIAMETER);
+/// assert!(matches!(world.add_particle(huge), Err(ParticleError::ReachTooLarge { .. })));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub const MAX_INTERACTION_DIAMETER: f64 = 1e150;
 
 /// The collision law of a world: the seed's parameters and the model options, taken from
@@ -77,7 +93,8 @@ pub struct Law {
 impl Law {
     /// The law `config` describes (which should be valid: see [`Config::validate`]), at no
     /// particular substep: what detection and placement need. Resting contacts depend on the
-    /// substep, and here none rests; the law a step applies is [`Law::at_substep`].
+    /// substep, and here none rests; the law a step applies is [`Law::at_substep`]. See
+    /// [`Law`] for an example.
     pub fn new(config: &Config) -> Law {
         Law {
             collision_radius_scale: config.collision_radius_scale,
@@ -222,7 +239,7 @@ impl Law {
 
 /// A wall's or an obstacle's restitution `e` as a step applies it: a disc meeting it at a
 /// normal speed at or below `rest_below` (a resting contact, [`RestingContacts::Rest`]) gets
-/// restitution 0 instead.
+/// restitution 0 instead. See [`Restitution::at`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Restitution {
     /// The restitution of impacts.
@@ -256,7 +273,7 @@ impl Restitution {
 /// resting on another (or on a wall-held one) is pulled into it by `|g| h` each substep,
 /// and the seed's exchange of normal velocities passes that speed up and down a stack, so
 /// resting contacts approach at a few `|g| h`; impacts (a drop of even one disc radius) come
-/// far faster.
+/// far faster. See [`resting_speed`] for an example.
 pub const RESTING_SUBSTEPS: f64 = 4.0;
 
 /// The approach speed below which a detected pair is a resting contact, not an impact:

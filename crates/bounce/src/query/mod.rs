@@ -19,7 +19,7 @@ mod ray;
 
 use ray::{Walk, entry};
 
-/// The first disc a ray enters ([`Queries::ray_cast`], which has an example).
+/// The first disc a ray enters. See [`Queries::ray_cast`] for an example.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayHit {
     /// The disc.
@@ -142,12 +142,12 @@ impl Queries {
         out
     }
 
-    /// The discs in the snapshot.
+    /// The discs in the snapshot. See [`crate::World::queries`] for an example.
     pub fn len(&self) -> usize {
         self.id.len()
     }
 
-    /// Whether the snapshot has no discs.
+    /// Whether the snapshot has no discs. See [`crate::World::queries`] for an example.
     pub fn is_empty(&self) -> bool {
         self.id.is_empty()
     }

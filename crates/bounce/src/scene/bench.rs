@@ -69,13 +69,14 @@ pub enum Bench {
 }
 
 impl Bench {
-    /// Every scene.
+    /// Every scene. See [`Bench`] for an example.
     pub const ALL: [Bench; 4] = [Bench::Gas, Bench::Pile, Bench::Poly, Bench::Fast];
 
-    /// The time step every scene runs at.
+    /// The time step every scene runs at. See [`Bench`] for an example.
     pub const DT: f64 = 1.0 / 60.0;
 
-    /// The configuration and the discs (in creation order) of `count` discs.
+    /// The configuration and the discs (in creation order) of `count` discs. See [`Bench`]
+    /// for an example.
     pub fn build(self, count: usize) -> Result<(Config, Vec<Particle>), SceneError> {
         let (radius, speed) = match self {
             Bench::Poly => ([0.05, 5.0], 2.0),
@@ -93,7 +94,7 @@ impl Bench {
         Ok((config, discs))
     }
 
-    /// The scene's gravity, restitution and substeps per step.
+    /// The scene's gravity, restitution and substeps per step. See [`Bench`] for an example.
     pub fn physics(self) -> ([f64; 2], f64, u32) {
         match self {
             Bench::Pile => ([0.0, -9.81], 0.7, 4),

@@ -56,6 +56,12 @@ pub enum Speeds {
 /// let small = Gas { count: 100, radius: [0.2, 0.2], seed: 8, ..spec.clone() };
 /// discs.extend(scene::gas_among(&small, &config, &discs)?);
 /// scene::zero_momentum(&mut discs, &config, [0.0, 0.0]);
+/// scene::spin(&mut discs, 0.5, 9); // ω uniform in ±0.5
+/// // A dense liquid's start: a lattice at packing 0.7 (random placement stalls near 0.5).
+/// let dense = Gas { count: 1426, ..spec.clone() };
+/// assert_eq!(scene::packed_gas(&dense, &config, &[])?.len(), 1426);
+/// let too_many = Gas { count: scene::MAX_GAS_COUNT as usize + 1, ..spec };
+/// assert!(scene::gas(&too_many, &config).is_err());
 /// let mut world = World::new(config)?;
 /// world.add_particles(discs).unwrap();
 /// assert!(world.colliding_pairs().is_empty() && world.stats().momentum[0].abs() < 1e-12);
@@ -168,6 +174,7 @@ pub fn gas(spec: &Gas, config: &Config) -> Result<Vec<Particle>, SceneError> {
 }
 
 /// The most discs one generator places: a larger `count` is refused as a [`SceneError`].
+/// See [`Gas`] for an example.
 pub const MAX_GAS_COUNT: u64 = 1 << 40;
 
 /// A rectangle: lower-left and upper-right corners.
@@ -220,7 +227,7 @@ fn checked_region(spec: &Gas, config: &Config) -> Result<(Geometry, Region), Sce
 /// earlier generators) and of each other. Fails if the spec is invalid or the discs do not fit.
 ///
 /// The work per attempt is bounded by the discs placed so far, whatever the radii, the
-/// collision_radius_scale or the region's size.
+/// collision_radius_scale or the region's size. See [`Gas`] for an example.
 pub fn gas_among(
     spec: &Gas,
     config: &Config,
@@ -377,7 +384,8 @@ fn set_velocities(placed: &mut [Particle], spec: &Gas, config: &Config, rng: &mu
 /// A dense gas: the discs start on a triangular lattice filling the region evenly (sites
 /// drawn at random when there are more than discs), keeping clear of `existing` discs, with
 /// velocities as [`gas`] gives them. Reaches packings random placement cannot (0.7 and
-/// beyond, up to the lattice's 0.9); run it a while to melt the lattice into a liquid.
+/// beyond, up to the lattice's 0.9); run it a while to melt the lattice into a liquid. See
+/// [`Gas`] for an example.
 pub fn packed_gas(
     spec: &Gas,
     config: &Config,
@@ -493,7 +501,7 @@ pub fn packed_gas(
 
 /// Removes the net momentum of `discs` (under `config`'s mass model), then adds `drift` to
 /// every velocity: a generator's `temperature = kT` otherwise leaves a net momentum of about
-/// √N thermal momenta.
+/// √N thermal momenta. See [`Gas`] for an example.
 pub fn zero_momentum(discs: &mut [Particle], config: &Config, drift: [f64; 2]) {
     let mass = |p: &Particle| {
         config.mass_model.mass(
@@ -518,7 +526,7 @@ pub fn zero_momentum(discs: &mut [Particle], config: &Config, drift: [f64; 2]) {
 
 /// Gives every disc an angular velocity uniform in `[-spin, spin]`, drawn from `seed` apart
 /// from the draws that placed the discs (a gas with and without spin has the same places and
-/// velocities).
+/// velocities). See [`Gas`] for an example.
 pub fn spin(discs: &mut [Particle], spin: f64, seed: u64) {
     let mut rng = Pcg64Mcg::seed_from_u64(seed ^ 0x5350_494e_5350_494e);
     for p in discs {

@@ -315,6 +315,7 @@ impl World {
     /// assert_eq!(queries.nearest([9.0, 9.0]).unwrap().0, b);
     /// let hit = queries.ray_cast([0.0, 5.0], [1.0, 0.0], 100.0).unwrap();
     /// assert_eq!((hit.id, hit.point, hit.normal), (a, [1.5, 5.0], [-1.0, 0.0]));
+    /// assert_eq!((queries.len(), queries.is_empty()), (2, false));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn queries(&self) -> crate::query::Queries {

@@ -29,6 +29,7 @@ mod events;
 mod obstacles;
 mod part;
 mod pressure;
+mod report;
 mod rotation;
 mod sensors;
 
@@ -134,6 +135,14 @@ pub struct World {
 }
 
 /// Why a step was refused.
+///
+/// ```
+/// use bounce::{Config, StepError, World};
+/// let error = World::new(Config::default())?.step(-1.0).unwrap_err();
+/// assert_eq!(error, StepError::InvalidTimeStep(-1.0));
+/// assert_eq!(error.to_string(), "time step dt = -1 must be finite and > 0");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum StepError {
     /// The time step is not a finite number `> 0`.
@@ -190,7 +199,7 @@ pub enum StepError {
     },
 }
 
-/// Why a configuration or loaded state was refused.
+/// Why a configuration or loaded state was refused. See [`World::set_config`] for an example.
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum WorldError {
     /// The configuration is invalid.
@@ -211,6 +220,13 @@ pub enum WorldError {
 
 impl World {
     /// An empty world; fails if the configuration is invalid.
+    ///
+    /// ```
+    /// use bounce::{Config, World};
+    /// assert!(World::new(Config::default()).is_ok());
+    /// let bad = Config { collision_radius_scale: -1.0, ..Config::default() };
+    /// assert_eq!(World::new(bad).unwrap_err().field, "collision_radius_scale");
+    /// ```
     pub fn new(config: Config) -> Result<World, ConfigError> {
         config.validate()?;
         let (obstacle_states, obstacle_count) = (initial_states(&config), config.obstacles.len());
@@ -256,13 +272,27 @@ impl World {
         })
     }
 
-    /// The configuration.
+    /// The configuration. See [`World::set_config`] for an example.
     pub fn config(&self) -> &Config {
         &self.config
     }
 
     /// Replaces the configuration. Fails, leaving the world unchanged, if the configuration is
     /// invalid or a particle does not fit it (outside a new box, too large for it).
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Obstacle, Particle, World, WorldError};
+    /// let mut world = World::new(Config::default())?;
+    /// world.add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 1.0))?;
+    /// let walls = |side| Config { boundary: Boundary::walls([0.0, 0.0], [side, side]), ..Config::default() };
+    /// world.set_config(walls(10.0))?;
+    /// // A box the disc is outside of is refused; the world keeps its configuration.
+    /// assert!(matches!(world.set_config(walls(3.0)), Err(WorldError::Particle { .. })));
+    /// assert_eq!(world.config(), &walls(10.0));
+    /// world.add_obstacles([Obstacle::peg([2.0, 2.0], 0.5)])?;
+    /// assert_eq!(world.config().obstacles.len(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_config(&mut self, config: Config) -> Result<(), WorldError> {
         config.validate()?;
         let (geometry, law) = (Geometry::new(&config), Law::new(&config));
@@ -307,7 +337,7 @@ impl World {
     }
 
     /// Adds obstacles after the existing ones (which keep their motion). Fails, leaving the
-    /// world unchanged, if one is invalid.
+    /// world unchanged, if one is invalid. See [`World::set_config`] for an example.
     pub fn add_obstacles(
         &mut self,
         obstacles: impl IntoIterator<Item = crate::Obstacle>,
@@ -319,7 +349,7 @@ impl World {
 
     /// Adds a disc and returns its id. Fails, leaving the world unchanged, on a non-finite
     /// position or velocity, a radius or mass that is not finite and positive, or a centre
-    /// outside the box.
+    /// outside the box. See the [crate docs](crate) for an example.
     pub fn add_particle(&mut self, particle: Particle) -> Result<ParticleId, ParticleError> {
         self.add_particles([particle])
             .map(|ids| ids[0])
@@ -328,6 +358,15 @@ impl World {
 
     /// Adds discs all or nothing: on the first invalid one, returns its index in the input
     /// and the error, and the world is unchanged.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config::default()).unwrap();
+    /// let (ok, bad) = (Particle::new([0.0, 0.0], [0.0, 0.0], 1.0), Particle::new([f64::NAN, 0.0], [0.0, 0.0], 1.0));
+    /// assert_eq!(world.add_particles([ok, bad]).unwrap_err().0, 1);
+    /// assert!(world.is_empty());
+    /// assert_eq!(world.add_particles([ok, ok]).unwrap().len(), 2);
+    /// ```
     pub fn add_particles(
         &mut self,
         particles: impl IntoIterator<Item = Particle>,
@@ -367,12 +406,31 @@ impl World {
     /// several substeps between two of them with [`StepError::Interrupted`], leaving the
     /// world part of the way through the step: a front end that sets it keeps a copy of the
     /// world from before the step to go back to. `None` (the default): steps always finish.
+    ///
+    /// ```
+    /// use std::sync::{Arc, atomic::AtomicUsize};
+    /// use bounce::{Config, Particle, StepError, World};
+    /// let mut world = World::new(Config { substeps: 4, ..Config::default() })?;
+    /// world.add_particle(Particle::new([0.0, 0.0], [1.0, 0.0], 0.5))?;
+    /// world.set_interrupt(Some(Arc::new(AtomicUsize::new(2)))); // a signal came
+    /// assert_eq!(world.step(0.1).unwrap_err(), StepError::Interrupted { step: 1 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_interrupt(&mut self, flag: Option<Arc<AtomicUsize>>) {
         self.interrupt = flag;
     }
 
     /// Runs `threads` worker threads for the step (1 = on the calling thread, the default).
-    /// Results are bit-identical for every thread count.
+    /// Results are bit-identical for every thread count (see [`World::state_hash`]).
+    ///
+    /// ```
+    /// use bounce::{Config, World};
+    /// let mut world = World::new(Config::default())?;
+    /// world.set_threads(2)?;
+    /// world.set_parallel_min_work(0); // every stage on the workers, however small
+    /// assert_eq!(world.threads(), 2);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
         let min_work = self.exec.min_work;
         self.exec = Executor::new(threads)?;
@@ -383,18 +441,20 @@ impl World {
     /// Work below `min_work` units (about one per disc, a few per contact) runs on the
     /// calling thread even with worker threads: waking them costs more than small work saves.
     /// The default is [`DEFAULT_PARALLEL_MIN_WORK`](crate::DEFAULT_PARALLEL_MIN_WORK); 0
-    /// runs every stage on the workers. Results never depend on it.
+    /// runs every stage on the workers. Results never depend on it. See
+    /// [`World::set_threads`] for an example.
     pub fn set_parallel_min_work(&mut self, min_work: usize) {
         self.exec.min_work = min_work;
     }
 
-    /// The number of worker threads the step uses.
+    /// The number of worker threads the step uses. See [`World::set_threads`] for an example.
     pub fn threads(&self) -> usize {
         self.exec.threads()
     }
 
     /// Advances the world by `dt`, in `config.substeps` substeps (more with
-    /// `config.max_travel`), and returns what it measured.
+    /// `config.max_travel`), and returns what it measured. See [`World::stats`] for an
+    /// example.
     pub fn step(&mut self, dt: f64) -> Result<&StepStats, StepError> {
         let substeps = self.substeps_for(dt);
         self.step_with_substeps(dt, substeps)
@@ -402,7 +462,8 @@ impl World {
 
     /// [`World::step`] in exactly `substeps` substeps (at least 1, at most
     /// [`crate::MAX_SUBSTEPS`]): for a part of a distributed world, whose substeps the whole
-    /// world's fastest disc decides (see [`World::substeps_for_extremes`]).
+    /// world's fastest disc decides (see [`World::substeps_for_extremes`], which has an
+    /// example).
     pub fn step_with_substeps(&mut self, dt: f64, substeps: u32) -> Result<&StepStats, StepError> {
         let installer = self.exec.installer(self.particles.len());
         if self.config.method == crate::Method::EventDriven {
@@ -425,6 +486,16 @@ impl World {
     /// `max_speed2` and the smallest radius `min_radius` (what [`World::step`] measures over
     /// its own discs; a distributed run gives the whole world's). More than
     /// [`crate::MAX_SUBSTEPS`] means too many: [`World::step_with_substeps`] refuses it.
+    ///
+    /// ```
+    /// use bounce::{Config, Particle, World};
+    /// let mut world = World::new(Config { max_travel: Some(0.5), ..Config::default() })?;
+    /// // Speed 8 for 0.25 with at most half of radius 0.5 per substep: 8 substeps.
+    /// assert_eq!(world.substeps_for_extremes(0.25, 64.0, 0.5), 8);
+    /// world.add_particle(Particle::new([0.0, 0.0], [8.0, 0.0], 0.5))?;
+    /// assert_eq!(world.step_with_substeps(0.25, 8)?.substeps, 8);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn substeps_for_extremes(&self, dt: f64, max_speed2: f64, min_radius: f64) -> u32 {
         let fixed = self.config.substeps;
         let Some(fraction) = self.config.max_travel else {
@@ -466,80 +537,6 @@ impl World {
     /// ```
     pub fn contact_events(&self) -> &[ContactEvent] {
         self.contact_log.events()
-    }
-
-    /// Each sensor's counts, in the order of [`Config::sensors`]: the discs inside now, and
-    /// those that entered and left, in the last step and since the world was made.
-    pub fn sensors(&self) -> &[SensorCount] {
-        self.sensors.counts()
-    }
-
-    /// How many contacts the last substep had (a pair, a disc and a wall, a disc and an
-    /// obstacle), as contact events follow them; 0 unless [`Config::contact_events`] is on.
-    pub fn contacts_now(&self) -> usize {
-        self.contact_log.touching()
-    }
-
-    /// What the last step measured (energy and momentum are kept current when particles are
-    /// added or the configuration changes).
-    pub fn stats(&self) -> &StepStats {
-        &self.stats
-    }
-
-    /// Where the last step spent its time, stage by stage.
-    pub fn profile(&self) -> &StepProfile {
-        &self.profile
-    }
-
-    /// Simulated time: the sum of the `dt`s stepped.
-    pub fn time(&self) -> f64 {
-        self.time
-    }
-
-    /// Number of steps taken.
-    pub fn step_count(&self) -> u64 {
-        self.steps
-    }
-
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.particles.len()
-    }
-
-    /// `true` when the world holds no particles.
-    pub fn is_empty(&self) -> bool {
-        self.particles.is_empty()
-    }
-
-    /// The particle arrays, in storage order (which changes every step; ids do not).
-    pub fn particles(&self) -> &Particles {
-        &self.particles
-    }
-
-    /// A 64-bit FNV-1a hash of the state (ids, positions, velocities, radii, and where discs
-    /// turn their angular velocities and orientations, in id order, bit for bit) and the
-    /// step count: equal hashes mean identical runs, on any platform.
-    pub fn state_hash(&self) -> u64 {
-        let mut hash = 0xcbf2_9ce4_8422_2325u64;
-        let mut eat = |bytes: [u8; 8]| {
-            for b in bytes {
-                hash = (hash ^ b as u64).wrapping_mul(0x0100_0000_01b3);
-            }
-        };
-        eat(self.steps.to_le_bytes());
-        let p = &self.particles;
-        for (id, i) in self.in_id_order() {
-            eat((id.0 as u64).to_le_bytes());
-            for v in [p.x[i], p.y[i], p.vx[i], p.vy[i], p.radius[i]] {
-                eat(v.to_bits().to_le_bytes());
-            }
-            if p.turning {
-                for v in [p.omega[i], p.theta[i]] {
-                    eat(v.to_bits().to_le_bytes());
-                }
-            }
-        }
-        hash
     }
 
     /// The lowest id with a non-finite position, velocity or kinetic energy, or `?` when

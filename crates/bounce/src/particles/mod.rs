@@ -3,12 +3,15 @@
 //! The broadphase keeps the arrays sorted by grid cell (reordering them at each rebuild), so a
 //! particle's index changes now and then; its [`ParticleId`] never does. Everything a step
 //! reads or writes per particle lives here; a checkpoint is this struct, the config and the
-//! broadphase's reference positions.
+//! broadphase's reference positions. `view.rs` holds the reading side: the slices and one
+//! particle by its index.
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::parallel::{CHUNK, Executor};
+
+mod view;
 
 /// A particle's stable identity, assigned in order of addition from 0. A `u32` in memory
 /// (`repr(transparent)`), so a slice of ids can be shared as `u32`s (the Python view does).
@@ -95,6 +98,13 @@ impl Particle {
 
     /// Whether it spins or has turned: a world of smooth discs keeps no rotation state until
     /// it gets such a disc.
+    ///
+    /// ```
+    /// use bounce::Particle;
+    /// let still = Particle::new([0.0, 0.0], [1.0, 0.0], 0.5);
+    /// assert!(!still.turns());
+    /// assert!(Particle { angular_velocity: 2.0, ..still }.turns());
+    /// ```
     pub fn turns(&self) -> bool {
         self.angular_velocity != 0.0 || self.orientation != 0.0
     }
@@ -194,7 +204,16 @@ pub enum ParticleError {
 }
 
 impl Particle {
-    /// Checks that every value is finite and radius and mass are positive.
+    /// Checks that every value is finite and radius and mass are positive (the box is
+    /// [`Particle::validate`]'s).
+    ///
+    /// ```
+    /// use bounce::{Particle, ParticleError};
+    /// let disc = Particle::new([0.0, 0.0], [1.0, 0.0], 0.5);
+    /// assert!(disc.validate_values().is_ok());
+    /// let flat = Particle { radius: 0.0, ..disc };
+    /// assert!(matches!(flat.validate_values(), Err(ParticleError::InvalidRadius(_))));
+    /// ```
     pub fn validate_values(&self) -> Result<(), ParticleError> {
         let [x, y] = self.position;
         if !(x.is_finite() && y.is_finite()) {
@@ -236,7 +255,9 @@ impl Particle {
 /// assert_eq!(p.get(i).unwrap().position, [4.0, 1.0]);
 /// assert_eq!(p.image()[i], [0, 0]); // no periodic box
 /// assert!(!p.turns() && p.angular_velocity().is_empty() && p.tag().is_empty());
-/// assert_eq!(p.len(), 2);
+/// assert!(p.orientation().is_empty() && p.tag_of(i) == 0);
+/// assert_eq!(p.per_particle_mass()[i], std::f64::consts::PI); // π r², none given
+/// assert_eq!((p.len(), p.is_empty()), (2, false));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -264,78 +285,6 @@ pub struct Particles {
 }
 
 impl Particles {
-    /// Number of particles.
-    pub fn len(&self) -> usize {
-        self.id.len()
-    }
-
-    /// `true` when there are no particles.
-    pub fn is_empty(&self) -> bool {
-        self.id.is_empty()
-    }
-
-    /// Stable ids, in storage order.
-    pub fn ids(&self) -> &[ParticleId] {
-        &self.id
-    }
-
-    /// Centre x coordinates.
-    pub fn x(&self) -> &[f64] {
-        &self.x
-    }
-
-    /// Centre y coordinates.
-    pub fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    /// Velocity x components.
-    pub fn vx(&self) -> &[f64] {
-        &self.vx
-    }
-
-    /// Velocity y components.
-    pub fn vy(&self) -> &[f64] {
-        &self.vy
-    }
-
-    /// Radii.
-    pub fn radius(&self) -> &[f64] {
-        &self.radius
-    }
-
-    /// Per-particle masses (π r² where none was given); see [`crate::MassModel::PerParticle`].
-    pub fn per_particle_mass(&self) -> &[f64] {
-        &self.mass
-    }
-
-    /// Periodic image counts `[ix, iy]`: the unwrapped position (the path a disc really
-    /// travelled, for diffusion) is `position + image × box size`. Zero outside a periodic box.
-    pub fn image(&self) -> &[[i32; 2]] {
-        &self.image
-    }
-
-    /// Angular velocities (counter-clockwise), or empty when no disc turns (see
-    /// [`Particles::turns`]).
-    pub fn angular_velocity(&self) -> &[f64] {
-        &self.omega
-    }
-
-    /// Orientations in `[0, 2π)`, or empty when no disc turns.
-    pub fn orientation(&self) -> &[f64] {
-        &self.theta
-    }
-
-    /// The discs' tags ([`Particle::tag`]), or empty while every tag is 0.
-    pub fn tag(&self) -> &[u64] {
-        &self.tag
-    }
-
-    /// Disc `i`'s tag.
-    pub fn tag_of(&self, i: usize) -> u64 {
-        self.tag.get(i).copied().unwrap_or(0)
-    }
-
     /// Sets disc `i`'s tag (keeping one per disc from the first non-zero one on).
     pub(crate) fn set_tag(&mut self, i: usize, tag: u64) {
         if self.tag.is_empty() && tag != 0 {
@@ -346,13 +295,6 @@ impl Particles {
         }
     }
 
-    /// Whether the discs carry rotation state: some disc was given an angular velocity or
-    /// an orientation, or the configuration is rough. Smooth discs that never turned have
-    /// none, and their step never reads it.
-    pub fn turns(&self) -> bool {
-        self.turning
-    }
-
     /// Starts keeping rotation state (zeros) for every disc, if not yet.
     pub(crate) fn start_turning(&mut self) {
         if !self.turning {
@@ -360,19 +302,6 @@ impl Particles {
             self.omega = vec![0.0; self.len()];
             self.theta = vec![0.0; self.len()];
         }
-    }
-
-    /// The particle at storage index `i`.
-    pub fn get(&self, i: usize) -> Option<Particle> {
-        (i < self.len()).then(|| Particle {
-            position: [self.x[i], self.y[i]],
-            velocity: [self.vx[i], self.vy[i]],
-            radius: self.radius[i],
-            mass: Some(self.mass[i]),
-            angular_velocity: self.omega.get(i).copied().unwrap_or(0.0),
-            orientation: self.theta.get(i).copied().unwrap_or(0.0),
-            tag: self.tag_of(i),
-        })
     }
 
     pub(crate) fn push(&mut self, id: ParticleId, p: &Particle) {
