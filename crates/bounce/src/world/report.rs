@@ -7,7 +7,7 @@ use crate::stats::{StepProfile, StepStats};
 use super::{SensorCount, World};
 
 impl World {
-    /// Each sensor's counts, in the order of [`Config::sensors`]: the discs inside now, and
+    /// Each sensor's counts, in the order of [`crate::Config::sensors`]: the discs inside now, and
     /// those that entered and left, in the last step and since the world was made. See
     /// [`SensorCount`] for an example.
     pub fn sensors(&self) -> &[SensorCount] {
@@ -15,7 +15,7 @@ impl World {
     }
 
     /// How many contacts the last substep had (a pair, a disc and a wall, a disc and an
-    /// obstacle), as contact events follow them; 0 unless [`Config::contact_events`] is on.
+    /// obstacle), as contact events follow them; 0 unless [`crate::Config::contact_events`] is on.
     ///
     /// ```
     /// use bounce::{Boundary, Config, Particle, World};
