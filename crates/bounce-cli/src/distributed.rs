@@ -51,9 +51,12 @@
 //! (`bounce::SensorState`), which the gathered world carries into `stats.csv` and the
 //! checkpoints: the same counts as one process.
 //!
+//! A Lees–Edwards box is cut in rows only (a disc through its top or bottom comes back slid
+//! along x, so a row's neighbours across that edge may be anywhere along it), and each part
+//! steps with the box's sliding images as one process does.
+//!
 //! Not yet across ranks: obstacles, emitters, sinks, thermostats, the pressure tensor and
-//! collision counts, Lees–Edwards boxes, and the event-driven method (refused with a
-//! message). Rough discs
+//! collision counts, and the event-driven method (refused with a message). Rough discs
 //! run across ranks: a disc's record carries its angular velocity and orientation, a ghost's
 //! state its angular velocity, and the energy friction removed is one more exact sum.
 
@@ -187,10 +190,6 @@ fn check_supported(session: &Session) -> Result<()> {
         (config.thermostat.is_some(), "world.thermostat"),
         (config.pressure_tensor, "output.pressure_tensor"),
         (config.collision_counts, "output.collision_counts"),
-        (
-            config.boundary.is_sheared(),
-            "world.boundary = \"lees_edwards\"",
-        ),
     ];
     for (present, what) in refused {
         if present {
@@ -579,10 +578,18 @@ impl<'c> Ranks<'c> {
     fn cut(&self, places: &[[f64; 2]], everyone: bool) -> Domains {
         let config = self.part.world.config();
         let period = |axis: usize| match config.boundary {
-            Boundary::Periodic { min, max } => Some((min[axis], max[axis] - min[axis])),
+            Boundary::Periodic { min, max } | Boundary::LeesEdwards { min, max, .. } => {
+                Some((min[axis], max[axis] - min[axis]))
+            }
             _ => None,
         };
-        let (rows, columns) = grid_shape(self.size());
+        // A Lees–Edwards box is cut in rows only: a disc through the top or bottom comes back
+        // slid along x, and the copies across slide past each other, so a row's neighbours
+        // across the edge may be anywhere along it.
+        let (rows, columns) = match config.boundary.is_sheared() {
+            true => (self.size(), 1),
+            false => grid_shape(self.size()),
+        };
         let whole = |axis: usize, parts: usize| Cuts {
             cuts: {
                 let mut c = vec![f64::NEG_INFINITY; parts + 1];

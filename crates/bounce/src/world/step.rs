@@ -428,9 +428,11 @@ impl<'w> Stages<'w> {
         };
         let (tensor, counting) = (self.config.pressure_tensor, self.config.collision_counts);
         let resting_speed = ctx.resting_speed;
-        // In a Lees–Edwards box a contact across the top and bottom joins discs far apart
-        // in storage coordinates, which the solver's colouring does not allow for: the
-        // contacts are resolved one at a time in the canonical order, as the plain step does.
+        // In a Lees–Edwards box a contact across the top and bottom meets its partner's
+        // sliding image, whose velocity the side-by-side kernel does not carry: the contacts
+        // are resolved one at a time in the canonical order, as the plain step does (the
+        // colouring still holds: the blocks a disc meets across the edge are slid along x,
+        // still one of each colour).
         let sheared = ctx.geometry.slide().is_some();
         let order = |contacts: &Contacts| match sheared {
             true => (contacts.list().iter())
