@@ -176,6 +176,40 @@ fn the_observables_are_the_same_bytes_on_threads_and_after_a_resume() {
 }
 
 #[test]
+fn a_sheared_run_is_the_same_bytes_on_threads_and_after_a_resume() {
+    // The shear template (Lees–Edwards, thermostatted, pressure tensor and profile).
+    let s = Scratch::new();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shear.toml");
+    let text = std::fs::read_to_string(root)
+        .unwrap()
+        .replace("gif = true", "gif = false")
+        .replace("frame_every = 500", "frame_every = 0\ngsd_every = 50")
+        .replace("plots = true", "plots = false");
+    run(&s, &text, "one", &["--steps", "600", "--threads", "1"]);
+    run(&s, &text, "two", &["--steps", "600", "--threads", "2"]);
+    run(&s, &text, "resumed", &["--steps", "250"]);
+    let checkpoint = s.path("resumed/checkpoint.bin");
+    run(
+        &s,
+        &text,
+        "resumed",
+        &["--steps", "600", "--resume", checkpoint.to_str().unwrap()],
+    );
+    for file in ["stats.csv", "profile.csv", "trajectory.gsd"] {
+        let one = std::fs::read(s.path("one").join(file)).unwrap();
+        assert!(
+            one == std::fs::read(s.path("two").join(file)).unwrap(),
+            "{file}: threads"
+        );
+        assert!(
+            one == std::fs::read(s.path("resumed").join(file)).unwrap(),
+            "{file}: resume"
+        );
+        assert!(one.len() > 1000, "{file}");
+    }
+}
+
+#[test]
 fn a_profile_of_an_open_world_is_refused_with_its_line() {
     let s = Scratch::new();
     let text = scenario(
