@@ -31,23 +31,33 @@ fn columns(path: &Path) -> Vec<(f64, f64)> {
 /// The shipped hard-discs scenario (2,000 exact hard discs) at packing `eta`.
 fn hard_discs(scratch: &Scratch, name: &str, eta: f64, steps: u32) -> std::path::PathBuf {
     let side = (2000.0 * std::f64::consts::PI * 0.25 / eta).sqrt();
+    let max = format!("world.max=[{side},{side}]");
+    template(
+        scratch,
+        "hard-discs",
+        name,
+        &[&max, &format!("time.steps={steps}")],
+    )
+}
+
+/// The shipped scenario `template` run into `name` with each of `sets` and no pictures;
+/// returns its trajectory.
+fn template(scratch: &Scratch, template: &str, name: &str, sets: &[&str]) -> std::path::PathBuf {
     let out = scratch.path(name);
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hard-discs.toml");
-    run(&[
+    let root =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenarios/{template}.toml"));
+    let mut args = vec![
         "run",
         root.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
         "-q",
-        "--set",
-        &format!("world.max=[{side},{side}]"),
-        "--set",
-        &format!("time.steps={steps}"),
-        "--set",
-        "output.gif=false",
-        "--set",
-        "output.frame_every=0",
-    ]);
+    ];
+    let quiet = ["output.gif=false", "output.frame_every=0"];
+    for set in sets.iter().chain(&quiet) {
+        args.extend(["--set", set]);
+    }
+    run(&args);
     out.join("trajectory.gsd")
 }
 
@@ -122,27 +132,13 @@ fn a_gently_sheared_fluid_keeps_its_contact_value_through_the_sliding_images() {
     // The shear template (packing 0.3, γ̇ σ √(m/kT) = 0.07): the structure is the fluid's,
     // pairs across the top and bottom found at the frame's offset.
     let scratch = Scratch::new();
-    let out = scratch.path("shear");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shear.toml");
-    run(&[
-        "run",
-        root.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "-q",
-        "--set",
+    let sets = [
         "time.steps=12000",
-        "--set",
         "output.gsd_every=100",
-        "--set",
-        "output.gif=false",
-        "--set",
-        "output.frame_every=0",
-        "--set",
         "output.plots=false",
-    ]);
+    ];
+    let gsd = template(&scratch, "shear", "shear", &sets);
     let analysis = scratch.path("analysis");
-    let gsd = out.join("trajectory.gsd");
     let (code, said, err) = output(bounce().args([
         "analyze",
         gsd.to_str().unwrap(),

@@ -151,17 +151,30 @@ fn the_observables_are_the_same_bytes_on_threads_and_after_a_resume() {
         "stats_every = 10\nprofile = { axis = \"x\", bins = 8 }\nmsd = true\ncollision_counts = true",
     )
     .replace("method = \"event_driven\"\ndt = 0.1", "dt = 0.01");
-    run(&s, &text, "one", &["--steps", "300", "--threads", "1"]);
-    run(&s, &text, "two", &["--steps", "300", "--threads", "2"]);
-    run(&s, &text, "resumed", &["--steps", "120"]);
-    let checkpoint = s.path("resumed/checkpoint.bin");
-    run(
+    same_bytes_on_threads_and_after_a_resume(
         &s,
         &text,
-        "resumed",
-        &["--steps", "300", "--resume", checkpoint.to_str().unwrap()],
+        (300, 120),
+        &["profile.csv", "msd.csv", "collisions.csv"],
     );
-    for file in ["profile.csv", "msd.csv", "collisions.csv"] {
+}
+
+/// Runs `text` for `steps` on 1 and 2 threads and to `cut` and resumed from there to `steps`:
+/// each of `files` is the same bytes in all three.
+fn same_bytes_on_threads_and_after_a_resume(
+    s: &Scratch,
+    text: &str,
+    (steps, cut): (u32, u32),
+    files: &[&str],
+) {
+    let (steps, cut) = (steps.to_string(), cut.to_string());
+    run(s, text, "one", &["--steps", &steps, "--threads", "1"]);
+    run(s, text, "two", &["--steps", &steps, "--threads", "2"]);
+    run(s, text, "resumed", &["--steps", &cut]);
+    let checkpoint = s.path("resumed/checkpoint.bin");
+    let resume = ["--steps", &steps, "--resume", checkpoint.to_str().unwrap()];
+    run(s, text, "resumed", &resume);
+    for file in files {
         let one = std::fs::read(s.path("one").join(file)).unwrap();
         assert!(
             one == std::fs::read(s.path("two").join(file)).unwrap(),
@@ -185,28 +198,12 @@ fn a_sheared_run_is_the_same_bytes_on_threads_and_after_a_resume() {
         .replace("gif = true", "gif = false")
         .replace("frame_every = 500", "frame_every = 0\ngsd_every = 50")
         .replace("plots = true", "plots = false");
-    run(&s, &text, "one", &["--steps", "600", "--threads", "1"]);
-    run(&s, &text, "two", &["--steps", "600", "--threads", "2"]);
-    run(&s, &text, "resumed", &["--steps", "250"]);
-    let checkpoint = s.path("resumed/checkpoint.bin");
-    run(
+    same_bytes_on_threads_and_after_a_resume(
         &s,
         &text,
-        "resumed",
-        &["--steps", "600", "--resume", checkpoint.to_str().unwrap()],
+        (600, 250),
+        &["stats.csv", "profile.csv", "trajectory.gsd"],
     );
-    for file in ["stats.csv", "profile.csv", "trajectory.gsd"] {
-        let one = std::fs::read(s.path("one").join(file)).unwrap();
-        assert!(
-            one == std::fs::read(s.path("two").join(file)).unwrap(),
-            "{file}: threads"
-        );
-        assert!(
-            one == std::fs::read(s.path("resumed").join(file)).unwrap(),
-            "{file}: resume"
-        );
-        assert!(one.len() > 1000, "{file}");
-    }
 }
 
 #[test]
