@@ -195,6 +195,25 @@ fn a_saved_sheared_world_goes_on_with_the_same_bits() {
     assert_eq!(resumed.lees_edwards_offset(), world.lees_edwards_offset());
 }
 
+/// `count` discs of radius 0.5 at packing `phi` from a melting lattice, in a square
+/// Lees–Edwards box sheared at `shear_rate`, started in the flow and held at kT = 1 by a
+/// rescaling thermostat; with the pressure tensor when asked.
+fn held_in_shear(count: usize, phi: f64, shear_rate: f64, pressure_tensor: bool) -> World {
+    let side = common::box_side(count, 0.25, phi);
+    let config = Config {
+        thermostat: Some(Thermostat::new(ThermostatKind::Rescale, 1.0, 1.0)),
+        pressure_tensor,
+        ..sheared(side, shear_rate)
+    };
+    let mut discs = common::lattice_gas(&config, count, 3);
+    for d in &mut discs {
+        d.velocity[0] += shear_rate * (d.position[1] - 0.5 * side);
+    }
+    let mut world = World::new(config).unwrap();
+    world.add_particles(discs).unwrap();
+    world
+}
+
 #[test]
 fn a_sheared_gas_keeps_the_linear_velocity_profile_at_the_shear_rate() {
     // 600 discs of radius 0.5 at packing 0.3 (side 38.8) sheared at γ̇ = 0.2: the images
@@ -203,17 +222,7 @@ fn a_sheared_gas_keeps_the_linear_velocity_profile_at_the_shear_rate() {
     // only by viscosity, in tens of time units) are what limit the measurement: least
     // squares of v_x on y over every disc, every 10 steps for 200 time units.
     let shear_rate = 0.2;
-    let side = common::box_side(600, 0.25, 0.3);
-    let config = Config {
-        thermostat: Some(Thermostat::new(ThermostatKind::Rescale, 1.0, 1.0)),
-        ..sheared(side, shear_rate)
-    };
-    let mut discs = common::lattice_gas(&config, 600, 3);
-    for d in &mut discs {
-        d.velocity[0] += shear_rate * (d.position[1] - 0.5 * side);
-    }
-    let mut world = World::new(config).unwrap();
-    world.add_particles(discs).unwrap();
+    let mut world = held_in_shear(600, 0.3, shear_rate, false);
     for _ in 0..1000 {
         world.step(0.02).unwrap();
     }
@@ -242,18 +251,7 @@ fn the_shear_viscosity_from_the_pressure_tensor_is_enskogs_at_packing_0_3() {
     // 1971; García-Rojo, Luding & Brey 2006): η = η0 (1/χ + 2φ + (1 + 8/π) φ² χ), with
     // η0 = √(m kT / π) / (2σ) and Henderson's contact value χ = (1 − 7φ/16) / (1 − φ)².
     let (phi, rate, dt) = (0.3, 0.1, 0.01);
-    let side = common::box_side(1000, 0.25, phi);
-    let config = Config {
-        thermostat: Some(Thermostat::new(ThermostatKind::Rescale, 1.0, 1.0)),
-        pressure_tensor: true,
-        ..sheared(side, rate)
-    };
-    let mut discs = common::lattice_gas(&config, 1000, 3);
-    for d in &mut discs {
-        d.velocity[0] += rate * (d.position[1] - 0.5 * side);
-    }
-    let mut world = World::new(config).unwrap();
-    world.add_particles(discs).unwrap();
+    let mut world = held_in_shear(1000, phi, rate, true);
     for _ in 0..1000 {
         world.step(dt).unwrap();
     }
