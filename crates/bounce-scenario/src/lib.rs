@@ -1110,6 +1110,14 @@ impl Scenario {
                 ),
             );
         }
+        if sheared && self.output.dissipation {
+            at(
+                line_of_key(source, "output", "dissipation"),
+                "output.dissipation: not in a Lees–Edwards box yet (its sliding images do work \
+                 on the discs that the balance does not count)"
+                    .into(),
+            );
+        }
         if sheared && self.output.msd {
             at(
                 line_of_key(source, "output", "msd"),
