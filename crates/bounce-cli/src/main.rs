@@ -391,13 +391,20 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             let (text, origin, limits) = steer.apply(&scenario)?;
             let session =
                 bounce_scenario::Session::from_text_in(&origin, &text, &limits, scenario.parent())?;
+            let boundary = match session.world.config().boundary {
+                bounce::Boundary::Open => "an open world".to_string(),
+                bounce::Boundary::Walls { .. } => "walls".into(),
+                bounce::Boundary::Periodic { .. } => "a periodic box".into(),
+                bounce::Boundary::LeesEdwards { shear_rate, .. } => {
+                    format!("a Lees–Edwards box sheared at {shear_rate}")
+                }
+            };
             println!(
-                "{}: ok: {} particles, {} steps of dt {}, {:?} boundary",
+                "{}: ok: {} particles, {} steps of dt {}, {boundary}",
                 session.origin,
                 session.world.len(),
                 session.steps,
                 session.dt,
-                session.scenario.world.boundary
             );
             println!("{}", session.time_step_report());
             Ok(ExitCode::SUCCESS)
