@@ -27,8 +27,10 @@ const MAGIC: &[u8; 18] = b"BOUNCE-CHECKPOINT\n";
 /// substep's contacts) and sensors (their regions, the discs each holds, their counts);
 /// version 9 the configuration's thermostat and pressure-tensor switch, the step's
 /// thermostat work and virial tensor, the run's thermostat work and its origin for `msd.csv`;
-/// version 10 the configuration's collision-count switch and each disc's collisions.
-const VERSION: u32 = 10;
+/// version 10 the configuration's collision-count switch and each disc's collisions;
+/// version 11 the time the broadphase listed its candidates at (a Lees–Edwards box keeps its
+/// list while its copies slide).
+const VERSION: u32 = 11;
 /// Bytes before the payload.
 const HEADER: usize = 18 + 4 + 8 + 8 + 8;
 
@@ -437,8 +439,8 @@ pub(crate) mod tests {
                 .contains("truncated or appended")
         );
         let mut other = bytes.clone();
-        other[18] = 11;
-        assert!(decode(&other, "c").unwrap_err().contains("version 11"));
+        other[18] = 12;
+        assert!(decode(&other, "c").unwrap_err().contains("version 12"));
     }
 
     /// Three discs of distinct radii, masses and velocities after two steps: every value

@@ -71,9 +71,17 @@ pub(crate) struct Slide {
     pub speed: f64,
     /// `δ = γ̇ L_y t`, brought into `[-L_x / 2, L_x / 2)`.
     pub offset: f64,
+    /// The time `t` the offset is for.
+    pub time: f64,
 }
 
 impl Slide {
+    /// How far the copies across the top and bottom have slid past each other since time
+    /// `since` (never negative).
+    pub(crate) fn drift_since(&self, since: f64) -> f64 {
+        (self.speed * (self.time - since)).abs()
+    }
+
     /// The offset at time `t` in a box `width` wide: `speed t` modulo the width, centred.
     pub(crate) fn offset_at(speed: f64, t: f64, width: f64) -> f64 {
         let d = (speed * t).rem_euclid(width);
@@ -140,6 +148,7 @@ impl Geometry {
                 slide: Some(Slide {
                     speed: shear_rate * (max[1] - min[1]),
                     offset: 0.0,
+                    time: 0.0,
                 }),
             },
         }
@@ -154,6 +163,7 @@ impl Geometry {
         } = &mut self
         {
             slide.offset = Slide::offset_at(slide.speed, t, size[0]);
+            slide.time = t;
         }
         self
     }

@@ -170,6 +170,21 @@ impl Broadphase {
         self.listed.then_some(self.count)
     }
 
+    /// The largest squared displacement `max_kept2` of the kept discs, as far as the list's
+    /// pairs can have closed in: in a Lees–Edwards box, three times the copies' slide since
+    /// the listing more (a pair across the top and bottom closes by the slide itself, and a
+    /// disc that crossed since is measured against the slide now, not the one it crossed
+    /// at, by up to the slide each way).
+    pub(crate) fn kept2(&self, max_kept2: f64, ctx: &StepContext) -> f64 {
+        match ctx.geometry.slide() {
+            Some(slide) => {
+                let reach = max_kept2.sqrt() + 3.0 * slide.drift_since(self.reference.time);
+                reach * reach
+            }
+            None => max_kept2,
+        }
+    }
+
     /// How many bands (from the nearest) hold every candidate that can collide, when no
     /// disc is farther than `sqrt(max_displacement2)` from its reference position (infinite
     /// or NaN: all of them).
@@ -235,20 +250,21 @@ impl Broadphase {
         contacts_per_disc: f64,
     ) -> bool {
         self.strays.clear();
-        // An infinite position (overflow) always rebuilds, which finds it.
+        let sheared = ctx.geometry.slide().is_some();
+        let max_kept2 = self.kept2(moved.max_kept2, ctx);
+        // An infinite position (overflow) always rebuilds, which finds it. In a Lees–Edwards
+        // box strays are not kept: their search does not slide across the top and bottom.
         let few_strays = !moved.too_many_strays
+            && (!sheared || moved.strays.is_empty())
             && (moved.strays.is_empty()
                 || (moved.strays.len() <= max_strays(p.len())
                     && moved.max_displacement2.is_finite()
                     && strays::worth_keeping(
                         contacts_per_disc,
-                        self.reference.near_band_holds(moved.max_kept2),
+                        self.reference.near_band_holds(max_kept2),
                     )));
-        // In a Lees–Edwards box the images slide past each other between listings, which
-        // the displacements do not measure: the list is made anew every substep.
-        let kept = ctx.geometry.slide().is_none()
-            && self.reference.positions(p.len()).is_some()
-            && self.reference.covers(moved.max_kept2)
+        let kept = self.reference.positions(p.len()).is_some()
+            && self.reference.covers(max_kept2)
             && few_strays;
         if kept {
             if !self.listed {
@@ -258,7 +274,12 @@ impl Broadphase {
                 let ry: Vec<f64> = self.reference.y.iter().map(|&v| v as f64).collect();
                 // The stored positions are within `slack` of the true ones, twice over.
                 let margin = self.reference.skin + 2.0 * self.reference.slack;
-                self.list_in_place([&rx, &ry, &p.radius], ctx, margin);
+                // (A Lees–Edwards box's copies stood where they were at the listing.)
+                let then = StepContext {
+                    geometry: ctx.geometry.at_time(self.reference.time),
+                    ..*ctx
+                };
+                self.list_in_place([&rx, &ry, &p.radius], &then, margin);
             }
             self.strays.set(&moved.strays, p.len());
             // How much of the list's life is used: the kept discs' share of the allowance,
@@ -266,7 +287,7 @@ impl Broadphase {
             let allowance = self.reference.allowance();
             let cap = max_strays(p.len()) + 1;
             self.worn = f64::max(
-                moved.max_kept2.sqrt() / allowance,
+                max_kept2.sqrt() / allowance,
                 moved.strays.len() as f64 / cap as f64,
             );
             false
@@ -291,6 +312,7 @@ impl Broadphase {
         );
         self.list([&p.x, &p.y, &p.radius], ctx, skin);
         self.overflowed = !self.reference.record(&p.x, &p.y, skin, ctx.exec);
+        self.reference.time = ctx.geometry.slide().map_or(0.0, |slide| slide.time);
         self.listed = true;
         self.in_cell_order = true;
         self.count = p.len();

@@ -61,6 +61,9 @@ pub(crate) struct Reference {
     /// Reference positions in storage order; empty when there are none.
     pub(super) x: Vec<f32>,
     pub(super) y: Vec<f32>,
+    /// When the candidates were listed: in a Lees–Edwards box the copies across the top and
+    /// bottom slide past each other from then on.
+    pub(super) time: f64,
 }
 
 impl Reference {
@@ -135,12 +138,13 @@ impl Reference {
             && self.skin.is_finite()
             && skin_ok
             && self.slack.is_finite()
-            && self.slack >= 0.0)
+            && self.slack >= 0.0
+            && self.time.is_finite())
         {
             return Err(format!(
-                "reference positions, skin {} or slack {} are not finite and >= 0 (the skin > 0 \
-                 with positions)",
-                self.skin, self.slack
+                "reference positions, skin {}, slack {} or time {} are not finite and >= 0 (the \
+                 skin > 0 with positions)",
+                self.skin, self.slack, self.time
             ));
         }
         Ok(())
@@ -210,6 +214,7 @@ mod tests {
             slack: 0.0,
             x: vec![0.0],
             y: vec![0.0],
+            time: 0.0,
         };
         assert!(r.covers(0.0) && r.covers(0.48 * 0.48));
         assert!(!r.covers(0.5 * 0.5) && !r.covers(f64::INFINITY));
@@ -230,6 +235,7 @@ mod tests {
             slack: 0.0,
             x: vec![0.0],
             y: vec![0.0],
+            time: 0.0,
         };
         assert!(r.check(1).is_ok());
         assert!(r.check(2).is_err());
@@ -254,6 +260,7 @@ mod tests {
             slack: 0.01,
             x: vec![0.0],
             y: vec![0.0],
+            time: 0.0,
         };
         // Two discs 0.24 each from their references close in by 0.48, plus the slack.
         assert!(r.near_band_holds(0.0) && r.near_band_holds(0.24 * 0.24));

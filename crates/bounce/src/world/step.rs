@@ -401,7 +401,11 @@ impl<'w> Stages<'w> {
         // later ones (after pushes) and segment crossings test all.
         let bands = if pass == 0 && !self.follow {
             // A rebuild took the current positions as the reference; strays are met alone.
-            bp.bands_within(if rebuilt { 0.0 } else { moved.max_kept2 })
+            bp.bands_within(if rebuilt {
+                0.0
+            } else {
+                bp.kept2(moved.max_kept2, &self.ctx)
+            })
         } else {
             broadphase::BANDS
         };
