@@ -739,9 +739,13 @@ fn validate_quick_passes_every_check_and_draws_the_equation_of_state() {
             .arg(s.path("v")),
     );
     assert_eq!(code, 0, "{stdout}{stderr}");
-    assert_eq!(stdout.matches("PASS").count(), 12, "{stdout}");
+    assert_eq!(stdout.matches("PASS").count(), 13, "{stdout}");
     assert!(!stdout.contains("FAIL"), "{stdout}");
-    assert!(stdout.contains("12 of 12 checks passed in"), "{stdout}");
+    assert!(stdout.contains("13 of 13 checks passed in"), "{stdout}");
+    assert!(
+        stdout.contains("shear viscosity at packing 0.3"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("exact hard discs: collision rate at packing 0.3"),
         "{stdout}"
