@@ -99,6 +99,8 @@ try {
     result.hourglass_regions = await page.evaluate(() => window.bounceFallback.regions("hourglass"));
     result.hourglass_sensed = await page.evaluate(() => window.bounceFallback.sensed("hourglass", 600));
     result.gas_flashes = await page.evaluate(() => window.bounceFallback.flashes("gas", 20));
+    result.shear_marks = await page.evaluate(() => window.bounceFallback.slides("shear", 50));
+    result.gas_marks = await page.evaluate(() => window.bounceFallback.slides("gas", 1));
     await page.check("#flash");
     await sleep(300);
     result.flashing = await page.evaluate(() => document.getElementById("flash").checked);

@@ -218,6 +218,12 @@ impl Simulation {
         impact_points(&self.session.world)
     }
 
+    /// `[x_top, y_top, x_bottom, y_bottom]`: where a Lees–Edwards box's sliding copies
+    /// stand (empty in any other boundary), marked on the page like the viewer marks them.
+    pub fn slide_marks(&self) -> Vec<f64> {
+        slide_marks(&self.session.world)
+    }
+
     /// `[min_x, min_y, max_x, max_y]`: the region the session shows.
     pub fn bounds(&self) -> Vec<f64> {
         let (min, max) = self.session.view;
@@ -249,6 +255,19 @@ pub fn sensor_lines(world: &bounce::World) -> String {
         })
         .collect();
     lines.join("\n")
+}
+
+/// The points of [`Simulation::slide_marks`]: the corner of the copy above on the top edge
+/// (`min + δ`) and of the copy below on the bottom edge (`min − δ`), each wrapped into the box.
+pub fn slide_marks(world: &bounce::World) -> Vec<f64> {
+    match (world.lees_edwards_offset(), world.config().boundary.bounds()) {
+        (Some(offset), Some((min, max))) => {
+            let width = max[0] - min[0];
+            let along = |shift: f64| min[0] + shift.rem_euclid(width);
+            vec![along(offset), max[1], along(-offset), min[1]]
+        }
+        _ => Vec::new(),
+    }
 }
 
 /// The points of [`Simulation::impacts`].

@@ -273,6 +273,20 @@ fn without_webgl_the_page_falls_back_to_a_2d_canvas_with_the_same_bits() {
         "{result}"
     );
     assert_eq!(result["flashing"], serde_json::json!(true), "{result}");
+    // Where the shear template's sliding copies stand after 50 steps, as natively; none in
+    // walls.
+    let mut shear = bounce_scenario::Session::builtin("shear").unwrap();
+    for _ in 0..50 {
+        shear.step().unwrap();
+    }
+    let offset = shear.world.lees_edwards_offset().unwrap();
+    let (min, max) = shear.world.config().boundary.bounds().unwrap();
+    let along = |shift: f64| min[0] + shift.rem_euclid(max[0] - min[0]);
+    let marks = [along(offset), max[1], along(-offset), min[1]];
+    assert!(offset.abs() > 1.0, "the copies have slid: {offset}");
+    let page: Vec<f64> = serde_json::from_value(result["shear_marks"].clone()).unwrap();
+    assert_eq!(page, marks, "{result}");
+    assert_eq!(result["gas_marks"], serde_json::json!([]), "{result}");
     let (differing, _) = disc_pixels(&shot, 20..880, 60..600);
     assert!(differing > 5_000, "2D canvas shows {differing} disc pixels");
 }
