@@ -260,7 +260,10 @@ pub fn sensor_lines(world: &bounce::World) -> String {
 /// The points of [`Simulation::slide_marks`]: the corner of the copy above on the top edge
 /// (`min + δ`) and of the copy below on the bottom edge (`min − δ`), each wrapped into the box.
 pub fn slide_marks(world: &bounce::World) -> Vec<f64> {
-    match (world.lees_edwards_offset(), world.config().boundary.bounds()) {
+    match (
+        world.lees_edwards_offset(),
+        world.config().boundary.bounds(),
+    ) {
         (Some(offset), Some((min, max))) => {
             let width = max[0] - min[0];
             let along = |shift: f64| min[0] + shift.rem_euclid(width);
