@@ -168,6 +168,22 @@ impl Geometry {
         self
     }
 
+    /// Where a centre pushed past a Lees–Edwards box's top or bottom has its image in the box
+    /// (x slid with it, so grids see it among its neighbours); unchanged in any other
+    /// geometry.
+    pub(crate) fn slid_into_box(&self, [mut x, mut y]: [f64; 2]) -> [f64; 2] {
+        if let Geometry::Periodic {
+            min,
+            size,
+            slide: Some(slide),
+            ..
+        } = *self
+        {
+            slide.wrap([&mut x, &mut y, &mut 0.0], min, size);
+        }
+        [x, y]
+    }
+
     /// The sliding images, in a Lees–Edwards box.
     pub(crate) fn slide(&self) -> Option<Slide> {
         match *self {

@@ -335,18 +335,9 @@ fn for_each_near_pair(
         _ => [reach.max(f64::MIN_POSITIVE); 2],
     };
     let cell_of = |i: usize| -> [i64; 2] {
-        let (mut x, mut y) = (p.x[i], p.y[i]);
         // In a Lees–Edwards box a centre pushed past the top or bottom goes in the cell of
         // its image in the box.
-        if let Geometry::Periodic {
-            min,
-            size,
-            slide: Some(slide),
-            ..
-        } = rules.geometry
-        {
-            slide.wrap([&mut x, &mut y, &mut 0.0], min, size);
-        }
+        let [x, y] = rules.geometry.slid_into_box([p.x[i], p.y[i]]);
         let raw = [
             ((x - origin[0]) / width[0]).floor() as i64,
             ((y - origin[1]) / width[1]).floor() as i64,

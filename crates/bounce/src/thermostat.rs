@@ -37,22 +37,16 @@ pub(crate) fn apply(
     let before: Vec<[f64; 2]> = (0..n).map(|i| [p.vx[i], p.vy[i]]).collect();
     let coupling = (thermostat.rate * dt).min(1.0);
     let t = thermostat.temperature;
-    // The streaming velocity of each disc, in a Lees–Edwards box.
-    let streams: Vec<f64> = match boundary.is_sheared() {
-        true => (p.y.iter())
-            .map(|&y| boundary.streaming_velocity(y).unwrap_or(0.0))
-            .collect(),
-        false => Vec::new(),
-    };
-    let streaming = |i: usize| streams.get(i).copied();
+    // The streaming velocity of each disc, in a Lees–Edwards box (none in any other).
+    let streams: Vec<Option<f64>> = (p.y.iter())
+        .map(|&y| boundary.streaming_velocity(y))
+        .collect();
+    let streaming = |i: usize| streams[i];
     match thermostat.kind {
         ThermostatKind::Rescale => {
-            let relative: Vec<[f64; 2]> = match boundary.is_sheared() {
-                false => before.clone(),
-                true => (before.iter().enumerate())
-                    .map(|(i, v)| [v[0] - streaming(i).unwrap_or(0.0), v[1]])
-                    .collect(),
-            };
+            let relative: Vec<[f64; 2]> = (before.iter().zip(&streams))
+                .map(|(v, u)| u.map_or(*v, |u| [v[0] - u, v[1]]))
+                .collect();
             let centre = centre_of_mass_velocity(&mass, &relative);
             let mut peculiar = ExactSum::new();
             for (m, v) in mass.iter().zip(&relative) {

@@ -69,7 +69,6 @@ pub(crate) use reference::{Moved, Reference};
 pub(crate) use strays::{Strays, max_strays};
 
 use crate::context::StepContext;
-use crate::geometry::Geometry;
 use crate::particles::{ParticleId, Particles, PermuteScratch, ordered};
 use levels::{Discs, LevelGrid};
 use reference::Skin;
@@ -328,21 +327,12 @@ impl Broadphase {
     ) {
         // In a Lees–Edwards box a centre pushed past the top or bottom is binned as its
         // image in the box (the stencil across the top expects the slid columns there).
-        let inside: Option<[Vec<f64>; 2]> = match ctx.geometry {
-            Geometry::Periodic {
-                min,
-                size,
-                slide: Some(slide),
-                ..
-            } => Some({
-                let (mut x, mut y) = (x.to_vec(), y.to_vec());
-                for (x, y) in x.iter_mut().zip(&mut y) {
-                    slide.wrap([x, y, &mut 0.0], min, size);
-                }
-                [x, y]
-            }),
-            _ => None,
-        };
+        let inside: Option<[Vec<f64>; 2]> = ctx.geometry.slide().map(|_| {
+            let slid: Vec<[f64; 2]> = (x.iter().zip(y))
+                .map(|(&x, &y)| ctx.geometry.slid_into_box([x, y]))
+                .collect();
+            [0, 1].map(|k| slid.iter().map(|p| p[k]).collect())
+        });
         let [x, y] = inside.as_ref().map_or([x, y], |[x, y]| [&x[..], &y[..]]);
         self.bin([x, y, radius], ctx, Skin::Fixed(margin));
         let gather =

@@ -32,19 +32,19 @@ impl World {
     pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
         let m = &self.measured;
         let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
-        if self.config.boundary.is_sheared() {
-            let area = Geometry::new(&self.config).area(mean_radius)?;
-            return Some((self.peculiar_kinetic_energy() + virial) / area);
-        }
-        Geometry::new(&self.config).area(mean_radius).map(|area| {
+        let area = Geometry::new(&self.config).area(mean_radius)?;
+        let kinetic = if self.config.boundary.is_sheared() {
+            self.peculiar_kinetic_energy()
+        } else {
             let [px, py] = momentum;
             let drift = if m.total_mass > 0.0 {
                 (px * px + py * py) / (2.0 * m.total_mass)
             } else {
                 0.0
             };
-            (kinetic_energy - drift + virial) / area
-        })
+            kinetic_energy - drift
+        };
+        Some((kinetic + virial) / area)
     }
 
     /// The pressure tensor `[P_xx, P_yy, P_xy]` now, with [`crate::Config::pressure_tensor`]
