@@ -1,15 +1,42 @@
 //! The event calendar: one slot per disc holding the time of its next event, and a
 //! tournament tree over the slots whose root is the earliest (ties to the lower slot, so the
 //! order of events is a function of the state alone). Setting a slot replays the matches on
-//! its path to the root: `O(log n)`, no stale entries to skip or collect.
+//! its path to the root: `O(log n)`, no stale entries to skip or collect. Each node keeps
+//! its winner's time beside its number, so a replay reads one sibling node per level, next
+//! to the node it updates, instead of looking two slots' times up.
+
+/// A match's winner: its slot and that slot's time.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    time: f64,
+    slot: u32,
+}
+
+/// Padding past the last slot: never wins.
+const PAD: Entry = Entry {
+    time: f64::INFINITY,
+    slot: u32::MAX,
+};
+
+impl Entry {
+    /// The same slot at the same time, to the bit (so the root's time is the slot's own).
+    #[inline]
+    fn same(self, other: Entry) -> bool {
+        self.slot == other.slot && self.time.to_bits() == other.time.to_bits()
+    }
+
+    /// Whether `self` wins against `other`: earlier, or as early and a lower slot.
+    #[inline]
+    fn beats(self, other: Entry) -> bool {
+        self.time < other.time || (self.time == other.time && self.slot < other.slot)
+    }
+}
 
 /// A complete binary tournament over `n` slots (see the module docs).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Calendar {
-    /// Each slot's time (`∞`: nothing to come).
-    time: Vec<f64>,
-    /// Node `k`'s winner; the leaves `size + i` are the slots, padded with `u32::MAX`.
-    tree: Vec<u32>,
+    /// Node `k`'s winner; the leaves `size + i` are the slots, padded with [`PAD`].
+    tree: Vec<Entry>,
     size: usize,
 }
 
@@ -17,61 +44,56 @@ impl Calendar {
     /// `n` slots, every one empty (at `∞`).
     pub(crate) fn new(n: usize) -> Calendar {
         let size = n.next_power_of_two().max(1);
-        let mut tree = vec![u32::MAX; 2 * size];
+        let mut tree = vec![PAD; 2 * size];
         for i in 0..n {
-            tree[size + i] = i as u32;
+            tree[size + i] = Entry {
+                time: f64::INFINITY,
+                slot: i as u32,
+            };
         }
-        let mut calendar = Calendar {
-            time: vec![f64::INFINITY; n],
-            tree,
-            size,
-        };
         for k in (1..size).rev() {
-            calendar.tree[k] = calendar.winner(calendar.tree[2 * k], calendar.tree[2 * k + 1]);
+            tree[k] = winner(tree[2 * k], tree[2 * k + 1]);
         }
-        calendar
+        Calendar { tree, size }
     }
 
     /// The bytes the calendar holds.
     pub(crate) fn memory_bytes(&self) -> usize {
-        8 * self.time.capacity() + 4 * self.tree.capacity()
-    }
-
-    /// The earlier of two slots (the lower on a tie; padding never wins).
-    #[inline]
-    fn winner(&self, a: u32, b: u32) -> u32 {
-        if b == u32::MAX {
-            return a;
-        }
-        if a == u32::MAX {
-            return b;
-        }
-        let (ta, tb) = (self.time[a as usize], self.time[b as usize]);
-        if tb < ta || (tb == ta && b < a) { b } else { a }
+        std::mem::size_of::<Entry>() * self.tree.capacity()
     }
 
     /// Slot `i`'s event is now at `t`.
     #[inline]
     pub(crate) fn set(&mut self, i: usize, t: f64) {
-        self.time[i] = t;
-        let mut k = (self.size + i) / 2;
-        while k >= 1 {
-            let w = self.winner(self.tree[2 * k], self.tree[2 * k + 1]);
-            if self.tree[k] == w && w as usize != i {
-                // The path above already holds this winner's result unless `i` changed it.
+        let mut k = self.size + i;
+        let mut w = Entry {
+            time: t,
+            slot: i as u32,
+        };
+        self.tree[k] = w;
+        while k > 1 {
+            w = winner(w, self.tree[k ^ 1]);
+            k /= 2;
+            if self.tree[k].same(w) {
+                // The path above already holds this result.
                 break;
             }
             self.tree[k] = w;
-            k /= 2;
         }
     }
 
     /// The earliest slot and its time, or `None` with no slots.
     #[inline]
     pub(crate) fn first(&self) -> Option<(usize, f64)> {
-        let w = *self.tree.get(1).unwrap_or(&self.tree[0]);
-        (w != u32::MAX).then(|| (w as usize, self.time[w as usize]))
+        let w = self.tree[1.min(self.tree.len() - 1)];
+        (w.slot != u32::MAX).then_some((w.slot as usize, w.time))
     }
+}
+
+/// The winner of a match (the lower slot on a tie; padding never wins).
+#[inline]
+fn winner(a: Entry, b: Entry) -> Entry {
+    if b.beats(a) { b } else { a }
 }
 
 #[cfg(test)]

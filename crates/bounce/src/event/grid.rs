@@ -160,31 +160,41 @@ impl Grid {
 
     /// Calls `f` with each disc listed in the cells at most `k` cells from `c` along each
     /// axis (the grid wrapping or not; where `2k + 1` cells reach round a periodic grid,
-    /// each cell once).
+    /// each cell once), row by row from the lowest. The cells are stepped through with a
+    /// wrap at the edge, not a division per cell: this runs once per event.
     #[inline]
     pub(crate) fn for_each_within(&self, c: [u32; 2], k: u32, mut f: impl FnMut(usize)) {
-        let range = |axis: usize| -> (i64, i64) {
-            let n = self.dims[axis] as i64;
-            let k = k as i64;
+        // Each axis's first cell (wrapped into the grid) and how many cells it spans.
+        let range = |axis: usize| -> (usize, usize) {
+            let (n, c, k) = (self.dims[axis], c[axis] as usize, k as usize);
             if self.wrap && 2 * k + 1 >= n {
-                (0, n - 1)
+                (0, n)
             } else if self.wrap {
-                (c[axis] as i64 - k, c[axis] as i64 + k)
+                (if c >= k { c - k } else { c + n - k }, 2 * k + 1)
             } else {
-                ((c[axis] as i64 - k).max(0), (c[axis] as i64 + k).min(n - 1))
+                let lo = c.saturating_sub(k);
+                (lo, (c + k).min(n - 1) + 1 - lo)
             }
         };
-        let [nx, ny] = self.dims.map(|d| d as i64);
-        let ((y0, y1), (x0, x1)) = (range(1), range(0));
-        for y in y0..=y1 {
-            let y = y.rem_euclid(ny);
-            for x in x0..=x1 {
-                let x = x.rem_euclid(nx);
-                let mut j = self.head[(y * nx + x) as usize];
+        let [nx, ny] = self.dims;
+        let ((y0, rows), (x0, columns)) = (range(1), range(0));
+        let mut y = y0;
+        for _ in 0..rows {
+            let mut x = x0;
+            for _ in 0..columns {
+                let mut j = self.head[y * nx + x];
                 while j != NONE {
                     f(j as usize);
                     j = self.next[j as usize];
                 }
+                x += 1;
+                if x == nx {
+                    x = 0;
+                }
+            }
+            y += 1;
+            if y == ny {
+                y = 0;
             }
         }
     }
