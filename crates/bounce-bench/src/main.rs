@@ -7,8 +7,8 @@
 //! steps that rebuild bounce's candidate list included), with the 99th percentile and the
 //! median beside it. Each engine and scene runs in a child process of its own, so the peak
 //! resident memory it reports is that run's. The machine is read from the system.
-//! `bounce-bench events [--counts N,N] [--packing η] [--time T]` measures the event-driven
-//! method instead, in collisions per second (`events.rs`).
+//! `bounce-bench events [--counts N,N] [--packing η] [--time T] [--dynamo PATH]` measures the
+//! event-driven method instead, in collisions per second, beside DynamO's (`events.rs`).
 
 mod engines;
 mod events;
@@ -64,6 +64,9 @@ enum Cmd {
         /// Time units to melt, then to measure.
         #[arg(long, default_value_t = 1.0)]
         time: f64,
+        /// DynamO's `dynarun` (see `scripts/build-dynamo`): the same discs in it, side by side.
+        #[arg(long)]
+        dynamo: Option<PathBuf>,
     },
     /// Runs one engine on one scene and prints one result line (used by the parent).
     One {
@@ -107,7 +110,11 @@ fn main() -> Result<()> {
             counts,
             packing,
             time,
-        }) => return events::run(&counts, packing, time, &Machine::read().line()),
+            dynamo,
+        }) => {
+            let machine = Machine::read().line();
+            return events::run(&counts, packing, time, dynamo.as_deref(), &machine);
+        }
         None => {}
     }
     let scenes: Vec<SceneKind> = if cli.scenes.is_empty() {

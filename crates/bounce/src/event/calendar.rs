@@ -3,7 +3,10 @@
 //! order of events is a function of the state alone). Setting a slot replays the matches on
 //! its path to the root: `O(log n)`, no stale entries to skip or collect. Each node keeps
 //! its winner's time beside its number, so a replay reads one sibling node per level, next
-//! to the node it updates, instead of looking two slots' times up.
+//! to the node it updates, instead of looking two slots' times up. The tree is the
+//! bottom-up kind with `n` leaves, not padded to a power of two: node `k`'s children are
+//! `2k` and `2k + 1`, the leaves `n..2n`, and the root (node 1) holds the earliest of all,
+//! whatever the shape, because the match's order is a total one.
 
 /// A match's winner: its slot and that slot's time.
 #[derive(Clone, Copy, Debug)]
@@ -12,7 +15,7 @@ struct Entry {
     slot: u32,
 }
 
-/// Padding past the last slot: never wins.
+/// No slot (the root of an empty calendar): never wins.
 const PAD: Entry = Entry {
     time: f64::INFINITY,
     slot: u32::MAX,
@@ -32,29 +35,28 @@ impl Entry {
     }
 }
 
-/// A complete binary tournament over `n` slots (see the module docs).
+/// A binary tournament over `n` slots (see the module docs).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Calendar {
-    /// Node `k`'s winner; the leaves `size + i` are the slots, padded with [`PAD`].
+    /// Node `k`'s winner; the leaves `n + i` are the slots.
     tree: Vec<Entry>,
-    size: usize,
+    n: usize,
 }
 
 impl Calendar {
     /// `n` slots, every one empty (at `∞`).
     pub(crate) fn new(n: usize) -> Calendar {
-        let size = n.next_power_of_two().max(1);
-        let mut tree = vec![PAD; 2 * size];
+        let mut tree = vec![PAD; (2 * n).max(2)];
         for i in 0..n {
-            tree[size + i] = Entry {
+            tree[n + i] = Entry {
                 time: f64::INFINITY,
                 slot: i as u32,
             };
         }
-        for k in (1..size).rev() {
+        for k in (1..n).rev() {
             tree[k] = winner(tree[2 * k], tree[2 * k + 1]);
         }
-        Calendar { tree, size }
+        Calendar { tree, n }
     }
 
     /// The bytes the calendar holds.
@@ -65,7 +67,7 @@ impl Calendar {
     /// Slot `i`'s event is now at `t`.
     #[inline]
     pub(crate) fn set(&mut self, i: usize, t: f64) {
-        let mut k = self.size + i;
+        let mut k = self.n + i;
         let mut w = Entry {
             time: t,
             slot: i as u32,
@@ -85,12 +87,12 @@ impl Calendar {
     /// The earliest slot and its time, or `None` with no slots.
     #[inline]
     pub(crate) fn first(&self) -> Option<(usize, f64)> {
-        let w = self.tree[1.min(self.tree.len() - 1)];
+        let w = self.tree[1];
         (w.slot != u32::MAX).then_some((w.slot as usize, w.time))
     }
 }
 
-/// The winner of a match (the lower slot on a tie; padding never wins).
+/// The winner of a match (the lower slot on a tie; `PAD` never wins).
 #[inline]
 fn winner(a: Entry, b: Entry) -> Entry {
     if b.beats(a) { b } else { a }
