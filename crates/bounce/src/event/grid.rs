@@ -197,7 +197,7 @@ impl Grid {
     /// Calls `f` with each disc listed in the cells at most `k` cells from `c` along each
     /// axis (the grid wrapping or not; where `2k + 1` cells reach round a periodic grid,
     /// each cell once), row by row from the lowest. The cells are stepped through with a
-    /// wrap at the edge, not a division per cell: this runs once per event.
+    /// wrap at the edge, not a division per cell.
     #[inline]
     pub(crate) fn for_each_within(&self, c: [u32; 2], k: u32, mut f: impl FnMut(usize)) {
         // Each axis's first cell (wrapped into the grid) and how many cells it spans.
