@@ -249,13 +249,7 @@ fn elastic_hard_discs_keep_energy_and_momentum_over_ten_million_collisions() {
 /// in random directions at random places in a box 70 wide, each |n|² − 1 found exactly (the
 /// squares' rounding errors by fused multiply-adds, the sum's by Knuth's two-sum).
 fn mean_normal_excess() -> f64 {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = common::uniform(0x2545_f491_4f6c_dd1d);
     let samples = 1_000_000;
     let mut sum = 0.0;
     for _ in 0..samples {

@@ -275,13 +275,7 @@ fn a_rough_pair_keeps_its_momentum_and_its_angular_momentum() {
     // the normal update), stick and slip: the tangential impulse and the rolling couple keep
     // the momentum and the angular momentum about the origin (taken at the places the push
     // leaves), to rounding.
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = common::uniform(0x2545_f491_4f6c_dd1d);
     for case in 0..2000 {
         let law = Law::new(&Config {
             friction: 2.0 * next(),

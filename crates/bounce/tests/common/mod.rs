@@ -69,3 +69,15 @@ pub fn lattice_gas(config: &Config, count: usize, seed: u64) -> Vec<bounce::Part
     )
     .expect("a lattice fits")
 }
+
+/// Uniform numbers in `[0, 1)` from a xorshift generator started at `seed` (not 0): the same
+/// sequence on every machine.
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
