@@ -27,8 +27,10 @@ pub fn run(
     machine: &str,
 ) -> Result<()> {
     println!("{machine}");
-    println!("| N | packing | engine | collisions | collisions per second | Z | memory |");
-    println!("|---|---|---|---|---|---|---|");
+    println!(
+        "| N | packing | engine | collisions | collisions per second | Z | memory | farthest from bounce |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
     for &n in counts {
         let side = (n as f64 * std::f64::consts::PI * 0.25 / packing).sqrt();
         let config = Config {
@@ -55,16 +57,29 @@ pub fn run(
         let kt = world.kinetic_energy() / n as f64;
         let z = 1.0 + seen.virial / (2.0 * time * n as f64 * kt);
         println!(
-            "| {n} | {packing} | bounce | {} | {:.3e} | {z:.4} | {:.0} bytes a disc (the engine's) |",
+            "| {n} | {packing} | bounce | {} | {:.3e} | {z:.4} | {:.0} bytes a disc (the engine's) | |",
             seen.collisions,
             seen.collisions as f64 / spent,
             world.memory_bytes() as f64 / n as f64
         );
+        let end = world.particles();
         drop(world);
         if let Some(dynarun) = dynamo {
             let r = run_dynamo(dynarun, &start, side, time)?;
+            // How far apart the two engines' discs end (the nearest image, a disc at a time).
+            let apart = end
+                .iter()
+                .zip(&r.positions)
+                .map(|(d, p)| {
+                    let gap = [0, 1].map(|a| {
+                        let g = d.position[a] - 0.5 * side - p[a];
+                        g - side * (g / side).round()
+                    });
+                    gap[0].hypot(gap[1])
+                })
+                .fold(0.0, f64::max);
             println!(
-                "| {n} | {packing} | DynamO | {} | {:.3e} | {:.4} | {:.0} MB peak (the process's) |",
+                "| {n} | {packing} | DynamO | {} | {:.3e} | {:.4} | {:.0} MB peak (the process's) | {apart:.1e} |",
                 r.collisions,
                 r.collisions as f64 / r.seconds,
                 r.z,
@@ -83,6 +98,8 @@ struct DynamoRun {
     z: f64,
     /// The peak resident memory of the process.
     peak_kib: f64,
+    /// Each disc's centre at the end (in the box centred on the origin).
+    positions: Vec<[f64; 2]>,
 }
 
 /// Writes `discs` (in a periodic box `side` wide) as a DynamO configuration, melts it for
@@ -116,6 +133,14 @@ fn run_dynamo(dynarun: &Path, discs: &[Particle], side: f64, time: f64) -> Resul
     run(&start, &melted, &dir.join("melt.xml"), &[])?;
     run(&melted, &dir.join("end.xml"), &output, &["-L", "Misc"])?;
     let report = std::fs::read_to_string(&output)?;
+    let positions = centres(&std::fs::read_to_string(dir.join("end.xml"))?)?;
+    if positions.len() != discs.len() {
+        bail!(
+            "DynamO's end holds {} discs, not {}",
+            positions.len(),
+            discs.len()
+        );
+    }
     std::fs::remove_dir_all(&dir)?;
     let n = discs.len() as f64;
     let tensor = numbers_after(&report, "<Tensor>", 9)?;
@@ -128,6 +153,7 @@ fn run_dynamo(dynarun: &Path, discs: &[Particle], side: f64, time: f64) -> Resul
         seconds: attribute(&report, "<Timing", "RuntimeSeconds")?,
         z: pressure * side * side / (n * kt),
         peak_kib: attribute(&report, "<Memusage", "MaxKiloBytes")?,
+        positions,
     })
 }
 
@@ -180,6 +206,21 @@ fn attribute(xml: &str, tag: &str, name: &str) -> Result<f64> {
         .with_context(|| format!("DynamO's {tag} {name} = {value:?}"))
 }
 
+/// Every particle's centre in a DynamO configuration, in the order written (DynamO writes
+/// them by ID).
+fn centres(xml: &str) -> Result<Vec<[f64; 2]>> {
+    xml.split("<P ")
+        .skip(1)
+        .map(|element| {
+            let element = format!("<P {}", element.split('>').next().unwrap_or(""));
+            Ok([
+                attribute(&element, "<P", "x")?,
+                attribute(&element, "<P", "y")?,
+            ])
+        })
+        .collect()
+}
+
 /// The first `count` numbers after `marker` in `xml`.
 fn numbers_after(xml: &str, marker: &str, count: usize) -> Result<Vec<f64>> {
     let at = xml
@@ -220,6 +261,9 @@ mod tests {
             0.656,
             "the tensor's yy"
         );
+        let end = "<ParticleData>\n<Pt ID=\"0\">\n<P x=\"-1.5\" y=\"2.25\" z=\"0\"/>\n\
+                   <V x=\"9\" y=\"9\" z=\"0\"/>\n</Pt>\n<Pt ID=\"1\"><P x=\"3\" y=\"-4\" z=\"0\"/>";
+        assert_eq!(centres(end).unwrap(), vec![[-1.5, 2.25], [3.0, -4.0]]);
         let missing = attribute(report, "<Memusage", "MaxKiloBytes").unwrap_err();
         assert!(missing.to_string().contains("<Memusage"), "{missing}");
     }
