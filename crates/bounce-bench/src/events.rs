@@ -47,8 +47,9 @@ pub fn run(
         };
         let discs = scene::packed_gas(&gas, &config, &[])?;
         let mut world = EventDriven::new(&config, &discs)?;
-        // The start as the engine has it: its masses (the seed's mass = radius) filled in.
-        let start = world.particles();
+        // The start as the engine has it, for DynamO: its masses (the seed's mass = radius)
+        // filled in.
+        let start = dynamo.map(|_| world.particles());
         drop(discs);
         world.advance(time)?;
         let begun = Instant::now();
@@ -62,9 +63,9 @@ pub fn run(
             seen.collisions as f64 / spent,
             world.memory_bytes() as f64 / n as f64
         );
-        let end = world.particles();
-        drop(world);
-        if let Some(dynarun) = dynamo {
+        if let (Some(dynarun), Some(start)) = (dynamo, start) {
+            let end = world.particles();
+            drop(world);
             let r = run_dynamo(dynarun, &start, side, time)?;
             // How far apart the two engines' discs end (the nearest image, a disc at a time).
             let apart = end
