@@ -26,6 +26,14 @@ pub fn run(
     dynamo: Option<&Path>,
     machine: &str,
 ) -> Result<()> {
+    if let Some(dynarun) = dynamo
+        && !dynarun.is_file()
+    {
+        bail!(
+            "--dynamo {}: no such file (scripts/build-dynamo builds target/dynamo/build/dynarun)",
+            dynarun.display()
+        );
+    }
     println!("{machine}");
     println!(
         "| N | packing | engine | collisions | collisions per second | Z | memory | farthest from bounce |"
