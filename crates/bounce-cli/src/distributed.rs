@@ -178,28 +178,13 @@ fn agree<T>(comm: &SimpleCommunicator, result: Result<T>) -> Result<T, Failure> 
 
 /// What the distributed run refuses, with the reason.
 fn check_supported(session: &Session) -> Result<()> {
-    let config = session.world.config();
-    let refused = [
-        (!config.obstacles.is_empty(), "[[obstacle]]"),
-        (!config.emitters.is_empty(), "[[emitter]]"),
-        (!config.sinks.is_empty(), "[[sink]]"),
-        (
-            config.method == bounce::Method::EventDriven,
-            "time.method = \"event_driven\"",
+    match bounce_scenario::support::across_ranks_unsupported(session.world.config()) {
+        Some(what) => bail!(
+            "{}: {what} is not supported across MPI ranks yet; run it without mpirun",
+            session.origin
         ),
-        (config.thermostat.is_some(), "world.thermostat"),
-        (config.pressure_tensor, "output.pressure_tensor"),
-        (config.collision_counts, "output.collision_counts"),
-    ];
-    for (present, what) in refused {
-        if present {
-            bail!(
-                "{}: {what} is not supported across MPI ranks yet; run it without mpirun",
-                session.origin
-            );
-        }
+        None => Ok(()),
     }
-    Ok(())
 }
 
 fn run(

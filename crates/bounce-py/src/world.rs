@@ -45,6 +45,8 @@ pub struct World {
     writers: Vec<Py<GsdWriter>>,
     /// The contact events of the last `step` call's steps.
     events: Recorded,
+    /// The momentum each obstacle has received over every step this object took.
+    obstacle_impulses_total: Vec<[f64; 2]>,
 }
 
 /// The message of a world error, as Python's `ValueError`.
@@ -140,6 +142,7 @@ impl World {
             views: Arc::new(AtomicUsize::new(0)),
             writers: Vec::new(),
             events: Recorded::default(),
+            obstacle_impulses_total: Vec::new(),
         }
     }
 
@@ -387,14 +390,36 @@ impl World {
             .collect()
     }
 
-    /// The momentum each obstacle received in the last step, shape (K, 2): divide by ``dt``
-    /// for the force.
+    /// The momentum each obstacle received in the last step only, shape (K, 2): divide by
+    /// ``dt`` for the force then. Zero rows for an obstacle no disc touched in that step;
+    /// ``obstacle_impulses_total`` adds up every step.
     #[getter]
-    fn obstacle_impulses<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+    fn obstacle_impulses_last_step<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> Bound<'py, numpy::PyArray2<f64>> {
         let values: Vec<f64> = self
             .get()
             .obstacle_impulses()
             .iter()
+            .flat_map(|j| [j[0], j[1]])
+            .collect();
+        rows(py, values, 2)
+    }
+
+    /// The momentum each obstacle has received over every step this ``World`` object took
+    /// (since it was made, loaded or read from a scenario), shape (K, 2): divided by the
+    /// time stepped, the mean force on each.
+    #[getter]
+    fn obstacle_impulses_total<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        let count = self.get().obstacle_impulses().len();
+        let values: Vec<f64> = (0..count)
+            .map(|k| {
+                self.obstacle_impulses_total
+                    .get(k)
+                    .copied()
+                    .unwrap_or([0.0; 2])
+            })
             .flat_map(|j| [j[0], j[1]])
             .collect();
         rows(py, values, 2)
@@ -463,6 +488,13 @@ impl World {
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             if world.config().contact_events {
                 self.events.add(world, dt);
+            }
+            let impulses = world.obstacle_impulses();
+            let totals = &mut self.obstacle_impulses_total;
+            totals.resize(impulses.len(), [0.0; 2]);
+            for (total, j) in totals.iter_mut().zip(impulses) {
+                total[0] += j[0];
+                total[1] += j[1];
             }
             py.check_signals()?;
             if !self.writers.is_empty() {

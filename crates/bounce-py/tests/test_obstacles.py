@@ -1,4 +1,4 @@
-"""Obstacles from Python: the seed's rule against an immovable body, by hand; a piston's
+"""Obstacles from Python: the collision rule against an immovable body, by hand; a piston's
 work; the same bits as the command line's scenarios with obstacles."""
 
 import math
@@ -22,7 +22,11 @@ def test_a_disc_on_a_floor_segment_is_pushed_out_by_the_whole_overlap_and_bounce
     assert world.positions[0].tolist() == pytest.approx([1.03, 0.5], abs=1e-12)
     assert world.velocities[0].tolist() == pytest.approx([3.0, 1.0], abs=1e-12)
     # The floor received m (1 + e) |vn| = 0.5 * 1.5 * 2 downwards (mass = radius).
-    assert world.obstacle_impulses[0].tolist() == pytest.approx([0.0, -1.5], abs=1e-12)
+    assert world.obstacle_impulses_last_step[0].tolist() == pytest.approx([0.0, -1.5], abs=1e-12)
+    # The total adds up every step: another step off the floor adds nothing.
+    world.step()
+    assert world.obstacle_impulses_last_step[0].tolist() == [0.0, 0.0]
+    assert world.obstacle_impulses_total[0].tolist() == pytest.approx([0.0, -1.5], abs=1e-12)
 
 
 def test_a_peg_deflects_a_disc_along_the_line_of_centres():
@@ -99,7 +103,8 @@ def test_drawn_obstacles_join_a_running_world_and_keep_the_pistons_motion():
     assert world.obstacles[0].ends[0][1] == pytest.approx(14.9)
     # A world keeps counting impulses for every obstacle, the new one too.
     world.step(5)
-    assert world.obstacle_impulses.shape == (2, 2)
+    assert world.obstacle_impulses_last_step.shape == (2, 2)
+    assert world.obstacle_impulses_total.shape == (2, 2)
 
 
 @pytest.mark.parametrize("name, steps", [("galton-board", 200), ("piston", 300)])

@@ -34,6 +34,7 @@ mod session;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod start;
 pub mod structure;
+pub mod support;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod trajectory;
 pub use colour::{Rgb, parse_colour, ramp, spin_ramp};

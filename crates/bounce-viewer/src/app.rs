@@ -304,7 +304,7 @@ impl ViewerApp {
             });
         ui.add(slider(&mut self.steps_per_frame, 1..=20).text("steps / frame"));
         ui.separator();
-        ui.label("physics (the seed's parameters)");
+        ui.label("collision model");
         let mut config = self.session.world.config().clone();
         let before = config.clone();
         ui.add(
@@ -350,7 +350,11 @@ impl ViewerApp {
         egui::ComboBox::from_label("mass")
             .selected_text(format!("{:?}", config.mass_model))
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut config.mass_model, MassModel::Radius, "radius (seed)");
+                ui.selectable_value(
+                    &mut config.mass_model,
+                    MassModel::Radius,
+                    "mass = radius (default)",
+                );
                 ui.selectable_value(&mut config.mass_model, MassModel::Area, "area");
                 ui.selectable_value(
                     &mut config.mass_model,
@@ -527,7 +531,20 @@ impl ViewerApp {
             self.structure(ui);
         }
         ui.separator();
-        ui.label("speeds vs 2D Maxwell–Boltzmann");
+        // Speeds under gravity or in a sheared flow are no single Maxwell–Boltzmann
+        // distribution: the curve would mislead there, so only the histogram is drawn.
+        let config = self.session.world.config();
+        let no_curve = if config.gravity != [0.0, 0.0] {
+            Some("gravity")
+        } else if config.boundary.is_sheared() {
+            Some("a sheared flow")
+        } else {
+            None
+        };
+        match no_curve {
+            None => ui.label("speeds vs 2D Maxwell–Boltzmann"),
+            Some(why) => ui.label(format!("speeds (no Maxwell–Boltzmann curve under {why})")),
+        };
         let (bars, curve) = self.speed_histogram();
         Plot::new("speeds")
             .height(170.0)
@@ -537,7 +554,9 @@ impl ViewerApp {
                 plot.bar_chart(
                     BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)),
                 );
-                plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
+                if no_curve.is_none() {
+                    plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
+                }
             });
     }
 

@@ -125,6 +125,17 @@ mod world;
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
 
+/// The user guide's Rust examples (`docs/src`), run as doctests like the README's.
+#[cfg(doctest)]
+pub mod guide {
+    /// Embedding the library.
+    #[doc = include_str!("../../../docs/src/tutorials/library.md")]
+    pub struct Library;
+    /// The collision model.
+    #[doc = include_str!("../../../docs/src/concepts/collision-model.md")]
+    pub struct CollisionModel;
+}
+
 pub use config::{
     Boundary, Config, ConfigError, Emitter, EmitterState, MAX_SUBSTEPS, MassModel, Method, Motion,
     Obstacle, ObstacleState, Region, RestingContacts, RestitutionModel, Sensor, Shape, Sink,
