@@ -18,7 +18,7 @@ solved eight times a substep, and resting contacts do not bounce (``resting_cont
 "rest"``): the packing is then stiff enough to carry its weight to the walls (the Janssen
 effect), and the rate does not depend on how full the bulb is, as in a real silo (the script
 prints the rate over the first and the second half of the measured part: they agree within
-a few percent). The seed's smooth discs with one solver pass flow more like a liquid, their
+a few percent). Smooth discs (the default) with one solver pass flow more like a liquid, their
 rate falling as the bulb empties (Torricelli), and the law does not hold for them; with four
 passes and bouncing resting contacts the fitted exponent moves with the bulb's width.
 

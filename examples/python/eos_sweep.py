@@ -1,6 +1,6 @@
 """The hard-disc equation of state and g(r), measured with bounce from Python.
 
-For each packing fraction, equal discs start on a square lattice in a periodic box (the seed
+For each packing fraction, equal discs start on a square lattice in a periodic box (the default
 model at e = 1 is an exact hard-disc gas for equal radii), melt, and the compressibility
 factor Z = P A / (N kT) is averaged from bounce's collision-virial pressure. Theory: Henderson's
 equation of state, Z = (1 + η²/8) / (1 - η)², within about 1 % of Monte Carlo up to η ≈ 0.6.

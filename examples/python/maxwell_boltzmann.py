@@ -1,7 +1,7 @@
 """Teaching example: a gas relaxes to the Maxwell–Boltzmann distribution.
 
 Every disc starts with the same speed in a random direction: a distribution as far from
-equilibrium as it gets. Collisions (the seed model, e = 1, equal discs) share the energy out,
+equilibrium as it gets. Collisions (the default model, e = 1, equal discs) share the energy out,
 and within a few collision times the speeds follow the 2D Maxwell–Boltzmann law,
 
     f(v) = (m v / kT) exp(-m v² / 2kT),     kT = KE / N,
@@ -44,7 +44,7 @@ k = np.arange(n)
 positions = (np.stack([k % side, k // side], axis=1) + 0.5) * (length / side)
 angle = np.random.default_rng(7).uniform(0, 2 * np.pi, n)
 world.add_discs(positions, np.stack([np.cos(angle), np.sin(angle)], axis=1), 0.5)
-mass = world.masses[0]  # the seed's mass is the radius: 0.5
+mass = world.masses[0]  # the default mass is the radius: 0.5
 
 
 # %% The law and the distance to it

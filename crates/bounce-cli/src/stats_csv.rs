@@ -27,7 +27,7 @@
 //!
 //! `[output] dissipation = true` adds `dissipated`: the energy (kinetic, rotational,
 //! potential) the discs lost since the previous row beyond what the thermostat and moving
-//! obstacles put in: inelastic collisions and friction (negative where the seed's model
+//! obstacles put in: inelastic collisions and friction (negative where the default model
 //! gains energy).
 //!
 //! A thermostat (`[world] thermostat`) adds `thermostat_work`: the kinetic energy it added

@@ -2,7 +2,7 @@
 //! stated tolerance and a pass or a fail, so a teacher or a reviewer can see what the
 //! simulator gets right before trusting it.
 //!
-//! The checks (the seed's model unless said):
+//! The checks (the default model unless said):
 //! 1. Speeds relax to the 2D Maxwell–Boltzmann (Rayleigh) distribution: Kolmogorov–Smirnov
 //!    distance under the 1% critical value `1.63 / √N`.
 //! 2. Energy and momentum are conserved at e = 1 in a periodic box (relative change < 1e-9).
@@ -13,10 +13,10 @@
 //! 4. Equipartition in a binary mixture (radii 0.3 and 0.6, masses by area): the mean
 //!    kinetic energy per disc of the two species agrees within 5%.
 //! 5. The model options do what their documentation says, on a two-disc collision worked
-//!    by hand: the seed's restitution loses momentum at e < 1, the relative-velocity one keeps
+//!    by hand: the default restitution loses momentum at e < 1, the relative-velocity one keeps
 //!    it; `approaching_only` leaves a separating pair's velocities alone.
 //! 6. Resting contacts: a disc resting on the floor (g = 10, dt = 0.01) moves at up to
-//!    `|g| dt` under the seed's bounce and is still under `resting_contacts = "rest"`.
+//!    `|g| dt` under the default bounce and is still under `resting_contacts = "rest"`.
 //! 7. Rough discs: a disc on a 20° incline rolls without slipping at `(2/3) g sin θ`
 //!    (friction 0.5) and slides at `g (sin θ − μ cos θ)` (friction 0.05), within 1%.
 //! 8. Exact hard discs (the event-driven method): Z at packings 0.3 and 0.5 against Monte
@@ -246,9 +246,9 @@ fn model_options() -> Check {
     Check {
         name: "model options (two equal discs, e = 0.5, one at rest)".into(),
         measured: format!(
-            "momentum after: seed {p_seed}, relative {p_newton}; separating pair left alone: {left_alone}"
+            "momentum after: each normal velocity scaled {p_seed}, relative {p_newton}; separating pair left alone: {left_alone}"
         ),
-        expected: "seed 0.5 (the seed loses momentum), relative 1, true".into(),
+        expected: "scaled 0.5 (the default loses momentum), relative 1, true".into(),
         pass: p_seed == 0.5 && p_newton == 1.0 && left_alone,
     }
 }
@@ -280,7 +280,7 @@ fn resting_contacts() -> Result<Check> {
     Ok(Check {
         name: "resting contacts (a disc on the floor, g = 10, dt = 0.01)".into(),
         measured: format!("largest speed: bounce {bounce:.6}, rest {rest}"),
-        expected: "bounce |g| dt = 0.1 (the seed's), rest 0".into(),
+        expected: "bounce |g| dt = 0.1 (the default), rest 0".into(),
         pass: (bounce - g * dt).abs() < 1e-12 && rest == 0.0,
     })
 }

@@ -14,9 +14,9 @@ use crate::obstacle::Obstacle;
 use crate::sources::{Emitter, Sensor, Sink};
 use serde::de::IntoDeserializer;
 
-/// The world's configuration: the seed's parameters, the boundary and the model options.
+/// The world's configuration: the collision model, the boundary and the model options.
 ///
-/// Every keyword is optional; the defaults are the seed's (an open world, no gravity,
+/// Every keyword is optional; the defaults are the default model's (an open world, no gravity,
 /// ``collision_radius_scale = 1``, ``coefficient_of_restitution = 1``, one substep, one
 /// solver pass, radii as masses, each normal velocity scaled by the restitution, every
 /// detected pair updated, every contact bouncing however slow).
@@ -34,10 +34,10 @@ use serde::de::IntoDeserializer;
 /// restitution 0, so a disc resting on the floor, a segment or a peg keeps no ``|g| h``
 /// speed), the rough discs' ``friction``, ``wall_friction`` (``None``: ``friction``),
 /// ``tangential_restitution``, ``rolling_resistance`` and ``inertia_factor`` (all 0 but the
-/// last, ½: the seed's smooth discs; any friction makes the discs turn), ``obstacles`` (a list
+/// last, ½: smooth discs; any friction makes the discs turn), ``obstacles`` (a list
 /// of :class:`Obstacle`), ``emitters`` (of :class:`Emitter`), ``sinks`` (of :class:`Sink`),
 /// ``sensors`` (of :class:`Sensor`),
-/// ``method`` (``"time_stepped"``, the seed's loop, or ``"event_driven"``: exact hard discs,
+/// ``method`` (``"time_stepped"``, step by step, or ``"event_driven"``: exact hard discs,
 /// every collision at its moment of contact, ``dt`` only how often the world is observed)
 /// ``contact_duration`` (the event-driven TC model's ``t_c``: a disc's collision within
 /// it of its last one is elastic; 0, off), ``contact_events`` (``True``: steps record the
@@ -332,13 +332,14 @@ impl Config {
         Ok(Config { inner: c })
     }
 
-    /// The seed's ``collision_radius_scale``.
+    /// ``collision_radius_scale``: discs collide when their centres are at most
+    /// ``(r_i + r_j)`` times it apart.
     #[getter]
     fn collision_radius_scale(&self) -> f64 {
         self.inner.collision_radius_scale
     }
 
-    /// The seed's ``COEFFICIENT_OF_RESTITUTION``.
+    /// The coefficient of restitution ``e`` (see ``restitution_model``).
     #[getter]
     fn coefficient_of_restitution(&self) -> f64 {
         self.inner.coefficient_of_restitution
@@ -418,32 +419,32 @@ impl Config {
         }
     }
 
-    /// The mass each disc has in collisions: ``"radius"`` (the seed's), ``"area"`` or
+    /// The mass each disc has in collisions: ``"radius"`` (the default: mass = radius), ``"area"`` or
     /// ``"per_particle"``.
     #[getter]
     fn mass_model(&self) -> &'static str {
         mass_model_name(self.inner.mass_model)
     }
 
-    /// ``"scale_each_normal_velocity"`` (the seed's) or ``"relative_normal_velocity"``.
+    /// ``"scale_each_normal_velocity"`` (the default) or ``"relative_normal_velocity"``.
     #[getter]
     fn restitution_model(&self) -> &'static str {
         restitution_model_name(self.inner.restitution_model)
     }
 
-    /// ``"all_detected"`` (the seed's) or ``"approaching_only"``.
+    /// ``"all_detected"`` (the default) or ``"approaching_only"``.
     #[getter]
     fn velocity_update(&self) -> &'static str {
         velocity_update_name(self.inner.velocity_update)
     }
 
-    /// ``"bounce"`` (the seed's) or ``"rest"``.
+    /// ``"bounce"`` (the default) or ``"rest"``.
     #[getter]
     fn resting_contacts(&self) -> &'static str {
         resting_contacts_name(self.inner.resting_contacts)
     }
 
-    /// ``"time_stepped"`` (the seed's loop) or ``"event_driven"`` (exact hard discs).
+    /// ``"time_stepped"`` (the default, step by step) or ``"event_driven"`` (exact hard discs).
     #[getter]
     fn method(&self) -> &'static str {
         self.inner.method.name()
@@ -493,7 +494,7 @@ impl Config {
         Ok(Some(d))
     }
 
-    /// Coulomb's friction coefficient of disc–disc contacts (0: the seed's smooth discs).
+    /// Coulomb's friction coefficient of disc–disc contacts (0, the default: smooth discs).
     #[getter]
     fn friction(&self) -> f64 {
         self.inner.friction

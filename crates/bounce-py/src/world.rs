@@ -23,7 +23,7 @@ use crate::query::Queries;
 /// A world of discs: the simulation.
 ///
 /// ``World(config=None, dt=None, threads=1)`` starts empty (``config`` defaults to
-/// ``bounce.Config()``, the seed's); ``World.from_scenario(path)`` builds the scenario file
+/// ``bounce.Config()``, the default model in an open world); ``World.from_scenario(path)`` builds the scenario file
 /// the ``bounce`` command runs, with the same ids; ``World.load(path)`` reads a checkpoint.
 ///
 /// Arrays come out as NumPy copies in id order (``positions``, ``velocities``, ``radii``,

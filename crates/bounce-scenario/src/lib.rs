@@ -87,7 +87,7 @@ pub struct Scenario {
     /// One line on what it shows.
     #[serde(default)]
     pub description: Option<String>,
-    /// The world: boundary, the seed's parameters, model options.
+    /// The world: boundary, the collision model's parameters, model options.
     pub world: WorldSpec,
     /// Time step and run length.
     pub time: TimeSpec,
@@ -149,29 +149,29 @@ pub struct WorldSpec {
     /// Gravity, default `[0, 0]`.
     #[serde(default)]
     pub gravity: [f64; 2],
-    /// The seed's collision_radius_scale, default 1.
+    /// Collide when the centres are at most `(r_i + r_j)` times this apart; default 1.
     #[serde(default = "one")]
     pub collision_radius_scale: f64,
-    /// The seed's coefficient of restitution, default 1.
+    /// The coefficient of restitution, default 1.
     #[serde(default = "one")]
     pub coefficient_of_restitution: f64,
-    /// Default `radius` (the seed's).
+    /// Default `radius` (mass = radius).
     #[serde(default = "default_mass_model")]
     pub mass_model: MassModel,
-    /// Default `scale_each_normal_velocity` (the seed's).
+    /// Default `scale_each_normal_velocity` (restitution on each normal velocity).
     #[serde(default = "default_restitution_model")]
     pub restitution_model: RestitutionModel,
-    /// Default `all_detected` (the seed's).
+    /// Default `all_detected` (every pair found colliding).
     #[serde(default = "default_velocity_update")]
     pub velocity_update: VelocityUpdate,
-    /// Default `bounce` (the seed's); `rest` makes contacts slower than 4 substeps of
+    /// Default `bounce`; `rest` makes contacts slower than 4 substeps of
     /// gravity's pull perfectly inelastic.
     #[serde(default = "default_resting_contacts")]
     pub resting_contacts: RestingContacts,
-    /// Passes of detection and resolution per substep, default 1 (the seed's single pass).
+    /// Passes of detection and resolution per substep, default 1 (a single pass).
     #[serde(default = "one_u32")]
     pub solver_iterations: u32,
-    /// Coulomb friction of disc–disc contacts, default 0 (the seed's smooth discs); with
+    /// Coulomb friction of disc–disc contacts, default 0 (smooth discs); with
     /// any friction or rolling resistance the discs are rough and rotate.
     #[serde(default)]
     pub friction: f64,
@@ -224,7 +224,7 @@ pub struct TimeSpec {
     /// smallest radius (default: none, fixed substeps).
     #[serde(default)]
     pub max_travel: Option<f64>,
-    /// `time_stepped` (default, the seed's loop) or `event_driven` (exact hard discs: `dt`
+    /// `time_stepped` (default, step by step) or `event_driven` (exact hard discs: `dt`
     /// is then how often the world is observed).
     #[serde(default)]
     pub method: bounce::Method,

@@ -2,15 +2,20 @@
 //!
 //! A fast, faithful, deterministic 2D simulator of colliding discs.
 //!
-//! bounce implements the collision model of its seed document exactly, as its default:
+//! bounce implements one simple, widely used collision model exactly, as its default:
 //! two discs collide when `distance <= (r_i + r_j) * collision_radius_scale`; a colliding
 //! pair is pushed apart half each, its velocities are split into normal and tangent parts,
 //! the normal parts follow the 1D elastic formula with the **radii as masses**, and each new
 //! normal velocity is scaled by the coefficient of restitution. Where that model departs from
-//! textbook physics, the textbook way is an option of [`Config`], never the default.
+//! textbook physics, the textbook way is an option of [`Config`], never the default. The user
+//! guide's page on the collision model (`docs/src/concepts/collision-model.md`) gives every
+//! formula. The model comes from a short specification bounce was written to reproduce, which
+//! the source calls *the seed*; its resolution is numbered in steps 1–7 (find the pair, push
+//! it apart, the normal, the normal and tangent velocities, the elastic update with
+//! restitution, the new velocities), and the law's documentation refers to those steps.
 //!
 //! What it aims for, in order:
-//! 1. **Faithful**: the seed's formulas term for term ([`law::resolve_pair`]), in one module
+//! 1. **Faithful**: the model's formulas term for term ([`law::resolve_pair`]), in one module
 //!    that owns the collision law ([`law::Law`]).
 //! 2. **Deterministic**: the same input gives the same bits, whatever the thread count.
 //! 3. **Fast**: O(N) per step: candidate pairs listed with a hierarchy of uniform grids and
@@ -19,7 +24,7 @@
 //!
 //! ## A tour
 //!
-//! **Make a world** from a [`Config`] (every field's default is the seed's behaviour) and
+//! **Make a world** from a [`Config`] (every field's default is the default model's behaviour) and
 //! add discs ([`Particle`]); each gets an id ([`ParticleId`]) that never changes.
 //!
 //! ```

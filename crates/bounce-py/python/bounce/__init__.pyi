@@ -148,7 +148,7 @@ def rectangle(
 ) -> List[Obstacle]: ...
 
 class Config:
-    """The world's configuration; every keyword defaults to the seed's value."""
+    """The world's configuration; every keyword defaults to the default model's value."""
 
     def __init__(
         self,

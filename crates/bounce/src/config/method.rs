@@ -1,4 +1,4 @@
-//! How a world is advanced: the time-stepped step (the seed's) or exact event-driven hard
+//! How a world is advanced: the time-stepped step (the default) or exact event-driven hard
 //! discs, and what the event-driven method does not combine with.
 
 use serde::{Deserialize, Serialize};
@@ -21,13 +21,13 @@ use super::{Boundary, Config, Motion, RestingContacts};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
-    /// The seed's time-stepped loop: move every disc by `dt`, then find the overlapping
+    /// The time-stepped loop: move every disc by `dt`, then find the overlapping
     /// pairs and resolve them (push apart, velocity update). The default.
     #[default]
     TimeStepped,
     /// Exact hard discs ([`crate::event`]): discs fly freely between collisions, and every
     /// collision (with a disc, a wall, an obstacle) is resolved at the exact moment of
-    /// contact with the seed's velocity update; no overlap, so no push, and no time-step
+    /// contact with the collision law's velocity update; no overlap, so no push, and no time-step
     /// bias. `dt` is then the interval at which the world is observed: a step processes
     /// every event up to exactly `t + dt`.
     EventDriven,

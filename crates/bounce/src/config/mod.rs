@@ -1,7 +1,8 @@
-//! World configuration: the seed's parameters, the boundary, and the model options.
+//! World configuration: the collision model's parameters, the boundary, and the model options.
 //!
-//! Every default is the seed document's behaviour. Where the seed is physically questionable
-//! (mass = radius, restitution applied to each new normal velocity, velocity update for pairs
+//! Every default is the default collision model's behaviour (the user guide's
+//! `docs/src/concepts/collision-model.md` explains it and where it comes from). Where that
+//! model is physically questionable (mass = radius, restitution applied to each new normal velocity, velocity update for pairs
 //! that already separate) the physically standard choice is an explicit option here, never the
 //! default. [`Config::validate`] checks everything once; the step itself never re-checks.
 
@@ -39,23 +40,22 @@ pub use thermostat::{Thermostat, ThermostatKind};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Config {
-    /// The seed's `collision_radius_scale`: two discs collide when their centre distance is at
-    /// most `(r_i + r_j) * collision_radius_scale`. Default `1.0` (discs touch exactly). Values
-    /// above 1 make particles react before they touch, as the seed's author wanted for
-    /// responsiveness. Must be finite and `> 0`.
+    /// Two discs collide when their centre distance is at most
+    /// `(r_i + r_j) * collision_radius_scale`. Default `1.0` (discs touch exactly). Values
+    /// above 1 make particles react before they touch, for responsiveness. Must be finite and `> 0`.
     pub collision_radius_scale: f64,
-    /// The seed's `COEFFICIENT_OF_RESTITUTION`, applied as [`Config::restitution_model`] says.
+    /// The coefficient of restitution `e`, applied as [`Config::restitution_model`] says.
     /// Default `1.0` (elastic). Must be finite and in `[0, 1]`.
     pub coefficient_of_restitution: f64,
-    /// Uniform acceleration in length/time², applied every substep. Default `[0, 0]`: the seed
-    /// has no gravity, and a gas is the common first experiment.
+    /// Uniform acceleration in length/time², applied every substep. Default `[0, 0]`: no
+    /// gravity, since a gas is the common first experiment.
     pub gravity: [f64; 2],
     /// Substeps per [`crate::World::step`]: each runs integrate → boundary → detect → resolve
-    /// with `dt / substeps`. Default `1`, as in the seed's one-pass loop; raise it for stacks and
+    /// with `dt / substeps`. Default `1`: one move and resolution a step; raise it for stacks and
     /// piles where overlaps must stay small. Must be `>= 1`.
     /// At most [`MAX_SUBSTEPS`].
     pub substeps: u32,
-    /// Passes of detection and resolution per substep. Default `1`, the seed's single pass.
+    /// Passes of detection and resolution per substep. Default `1`, a single pass.
     /// A later pass changes the velocities only of pairs still approaching, whatever
     /// [`VelocityUpdate`] says (see [`crate::law::Law::for_pass`]): a pair collides once,
     /// however many passes. With more than one, each pass ends with the walls as contacts (a disc touching a wall and
@@ -63,7 +63,7 @@ pub struct Config {
     /// passes its shared velocity down to the floor within a substep: a pile under the
     /// momentum-conserving model stops compressing. Under gravity the contacts of each
     /// order block are then resolved lowest first, so one pass carries the floor's support
-    /// up a block; with 64 passes the momentum-conserving pile rests as still as the seed's.
+    /// up a block; with 64 passes the momentum-conserving pile rests as still as the default model's.
     /// At most 100.
     pub solver_iterations: u32,
     /// Adaptive substeps: the farthest a disc may travel in one substep, as a fraction of the
@@ -74,27 +74,27 @@ pub struct Config {
     /// fast discs cannot tunnel through discs or walls, and the time-step bias stays bounded.
     /// Deterministic: the count depends on the state only. Must be finite and `> 0`.
     pub max_travel: Option<f64>,
-    /// What happens at the edge of the world. Default [`Boundary::Open`]: the seed names no box,
-    /// and an open world invents no length scale. Use [`Boundary::walls`] for a container.
+    /// What happens at the edge of the world. Default [`Boundary::Open`]: a
+    /// world needs no box, and an open world invents no length scale. Use [`Boundary::walls`] for a container.
     pub boundary: Boundary,
     /// The mass each disc has in the collision formula, kinetic energy and momentum. Default
-    /// [`MassModel::Radius`], the seed's (the radii stand in for the masses).
+    /// [`MassModel::Radius`]: the radii stand in for the masses.
     pub mass_model: MassModel,
     /// How the coefficient of restitution is applied. Default
-    /// [`RestitutionModel::ScaleEachNormalVelocity`], the seed's.
+    /// [`RestitutionModel::ScaleEachNormalVelocity`]: each new normal velocity is scaled.
     pub restitution_model: RestitutionModel,
-    /// Which detected pairs get the velocity update. Default [`VelocityUpdate::AllDetected`],
-    /// the seed's.
+    /// Which detected pairs get the velocity update. Default [`VelocityUpdate::AllDetected`]:
+    /// every pair found colliding.
     pub velocity_update: VelocityUpdate,
     /// What a contact slower than the resting speed does (see [`RestingContacts`]). Default
-    /// [`RestingContacts::Bounce`], the seed's: every contact is resolved with its
+    /// [`RestingContacts::Bounce`]: every contact is resolved with its
     /// restitution, however slow.
     pub resting_contacts: RestingContacts,
     /// Coulomb's friction coefficient `μ` of disc–disc contacts, finite and `>= 0`. Default
-    /// `0`: the seed's smooth discs, whose tangential velocities a collision keeps. With any
+    /// `0`: smooth discs, whose tangential velocities a collision keeps. With any
     /// friction (here, at the walls or at an obstacle) or rolling resistance the discs are
     /// **rough**: each has an angular velocity and an orientation, and a contact's tangential
-    /// impulse, after the seed's normal update, removes (or reverses) the slip of the
+    /// impulse, after the normal update, removes (or reverses) the slip of the
     /// touching surfaces up to `μ` times the normal impulse (see [`crate::law::rough`]).
     pub friction: f64,
     /// The walls' friction coefficient, finite and `>= 0`. `None` (the default) uses
@@ -112,8 +112,8 @@ pub struct Config {
     /// `k` in each disc's moment of inertia `I = k m r²` (`m` its mass under
     /// [`Config::mass_model`]), in `(0, 1]`. Default `0.5`, a solid disc (a ring is 1).
     pub inertia_factor: f64,
-    /// How a step advances the world (see [`Method`]). Default [`Method::TimeStepped`], the
-    /// seed's loop.
+    /// How a step advances the world (see [`Method`]). Default [`Method::TimeStepped`]:
+    /// step by step.
     pub method: Method,
     /// The TC model's duration `t_c` under [`Method::EventDriven`] (Luding & McNamara
     /// 1998): a disc's collision (with a disc, a wall or an obstacle) within `t_c` of its
@@ -427,8 +427,8 @@ impl Config {
 
     /// Whether the discs are rough: some contact (a pair, a wall of the box, an obstacle)
     /// has friction, or there is rolling resistance. Rough discs carry an angular velocity
-    /// and an orientation; smooth ones (the seed's, the default) have neither, and their
-    /// step is the seed's to the bit. See [`Config::wall_friction`] for an example.
+    /// and an orientation; smooth ones (the default) have neither, and their
+    /// step is the smooth one to the bit. See [`Config::wall_friction`] for an example.
     pub fn is_rough(&self) -> bool {
         let walls = matches!(self.boundary, Boundary::Walls { .. });
         self.friction > 0.0

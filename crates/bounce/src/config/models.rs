@@ -1,5 +1,5 @@
 //! The collision model's options ([`crate::Config`]'s `mass_model`, `restitution_model`,
-//! `velocity_update`, `resting_contacts`): each default is the seed's way, each other value
+//! `velocity_update`, `resting_contacts`): each default is the default model's way, each other value
 //! the physically standard one, chosen explicitly.
 
 use serde::{Deserialize, Serialize};
@@ -9,14 +9,14 @@ use serde::{Deserialize, Serialize};
 /// ```
 /// use bounce::MassModel;
 /// let (r, own) = (2.0, 7.0);
-/// assert_eq!(MassModel::Radius.mass(r, own), 2.0); // the seed's
+/// assert_eq!(MassModel::Radius.mass(r, own), 2.0); // the default
 /// assert_eq!(MassModel::Area.mass(r, own), std::f64::consts::PI * 4.0);
 /// assert_eq!(MassModel::PerParticle.mass(r, own), 7.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MassModel {
-    /// The seed's choice: mass = radius. Cheap and what the seed's formulas say, but a disc of
+    /// The default: mass = radius. Cheap and what the default model's formulas say, but a disc of
     /// twice the radius has four times the area and only twice the mass.
     Radius,
     /// Mass = π r² (uniform areal density 1): what a 2D disc of one material weighs. Choose it
@@ -56,7 +56,7 @@ impl MassModel {
 ///     let v: Vec<f64> = world.particles_by_id().iter().map(|(_, p)| p.velocity[0]).collect();
 ///     Ok([v[0], v[1]])
 /// };
-/// // The seed's: the elastic exchange (0, 2), each scaled by e; momentum 2 becomes 1.
+/// // The default: the elastic exchange (0, 2), each scaled by e; momentum 2 becomes 1.
 /// assert_eq!(after(RestitutionModel::ScaleEachNormalVelocity)?, [0.0, 1.0]);
 /// // Newton's: relative speed reversed and halved, momentum kept.
 /// assert_eq!(after(RestitutionModel::RelativeNormalVelocity)?, [0.5, 1.5]);
@@ -65,13 +65,13 @@ impl MassModel {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RestitutionModel {
-    /// The seed's step 6: compute both elastic normal velocities, then multiply each by `e`.
+    /// The default: compute both elastic normal velocities, then multiply each by `e`.
     /// For `e < 1` this does not conserve momentum (a resting pair hit by a moving one loses
     /// momentum to nowhere), and pairs keep losing speed while in contact.
     ScaleEachNormalVelocity,
     /// The standard Newton restitution law: the relative normal velocity is reversed and scaled
     /// by `e`, the centre-of-mass velocity is kept. Conserves momentum for every `e`;
-    /// identical to the seed at `e = 1` up to rounding.
+    /// identical to the default at `e = 1` up to rounding.
     RelativeNormalVelocity,
 }
 
@@ -87,7 +87,7 @@ pub enum RestitutionModel {
 ///     world.step(0.001)?;
 ///     Ok(world.particles_by_id()[0].1.velocity[0])
 /// };
-/// // The seed's exchanges their normal velocities anyway: the first now moves right.
+/// // The default exchanges their normal velocities anyway: the first now moves right.
 /// assert_eq!(after(VelocityUpdate::AllDetected)?, 1.0);
 /// // Approaching pairs only: it keeps moving away.
 /// assert_eq!(after(VelocityUpdate::ApproachingOnly)?, -1.0);
@@ -96,7 +96,7 @@ pub enum RestitutionModel {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum VelocityUpdate {
-    /// The seed's: every pair within the collision distance gets steps 4–7, even one whose
+    /// The default: every pair within the collision distance gets steps 4–7, even one whose
     /// discs already move apart. Such a pair exchanges its normal velocities back, so two discs
     /// still overlapping after a bounce can stick together for a few steps.
     AllDetected,
@@ -108,11 +108,11 @@ pub enum VelocityUpdate {
 /// What a **resting contact** does: a contact whose normal speed (towards or away from the
 /// other side) is at most the resting speed, 4 substeps of gravity's pull
 /// ([`crate::law::resting_speed`], the speed that also tells a step's `contacts` from its
-/// `collisions`). Without gravity no contact rests, and both choices are the seed's.
+/// `collisions`). Without gravity no contact rests, and both choices are the same.
 ///
 /// ```
 /// use bounce::{Boundary, Config, Particle, RestingContacts, World};
-/// // A disc at rest on the floor: the seed's keeps it hopping at |g| h; `Rest` holds it still.
+/// // A disc at rest on the floor: the default keeps it hopping at |g| h; `Rest` holds it still.
 /// let fastest = |contacts| -> Result<f64, Box<dyn std::error::Error>> {
 ///     let mut world = World::new(Config {
 ///         boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
@@ -135,7 +135,7 @@ pub enum VelocityUpdate {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RestingContacts {
-    /// The seed's: every contact gets its restitution, however slow. Gravity pulls a disc
+    /// The default: every contact gets its restitution, however slow. Gravity pulls a disc
     /// resting on the floor, a segment or a peg in by `|g| h` each substep, and the
     /// reflection sends it back up at `e |g| h`: at the end of a step it moves at up to
     /// `|g| h` (kinetic energy up to `½ m (g h)²`), and in a stack the exchange of normal

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 /// A heat bath or a random drive acting on the discs' velocities at the end of every step,
-/// after the collisions ([`crate::Config::thermostat`]). Off by default: the seed's gas keeps
+/// after the collisions ([`crate::Config::thermostat`]). Off by default: a gas keeps
 /// its energy. Random numbers come from `(seed, step, disc id)` alone, so a run gives the
 /// same bits on any thread count, in any storage order and across a resume.
 ///

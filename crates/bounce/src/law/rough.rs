@@ -1,39 +1,14 @@
-//! Rough discs: what friction and rolling resistance add to a contact after the seed's normal
-//! update. Off by default (the seed's discs are smooth and never spin); on when
-//! [`crate::Config::is_rough`].
+//! Rough discs: what friction and rolling resistance add to a contact after the normal
+//! update. Off by default (smooth discs never spin); on when [`crate::Config::is_rough`].
 //!
-//! **The model.** Each disc has an angular velocity `ω` (counter-clockwise positive) and a
-//! moment of inertia `I = k m r²` (`k` the `inertia_factor`, `m` the mass of the mass model).
-//! At a contact with unit normal `n` (from side 2 to side 1) and tangent `t = (−n_y, n_x)`,
-//! each side touches at its **lever arm** `l` from its centre: `l_i = r_i s` for a disc against
-//! a disc or an obstacle (`s` the `collision_radius_scale`; the two arms add up to the
-//! collision distance, where the push leaves the pair), `l = r` against a wall of the box. The
-//! touching surfaces slip at
-//!
-//! `g = (v1 − v2) · t − l1 ω1 − l2 ω2`
-//!
-//! (a wall or an obstacle is side 2: infinitely heavy, not spinning, moving at its velocity).
-//! After the normal update, a tangential impulse `J_t` (on side 1 along `t`, the opposite on
-//! side 2) changes `g` by `J_t w` with `w = 1/m1 + 1/m2 + l1²/I1 + l2²/I2`; it is the impulse that
-//! leaves the slip at `−β g` (`β` the `tangential_restitution`), limited by Coulomb's law:
-//!
-//! `J_t = clamp(−(1 + β) g / w, −μ |J_n|, μ |J_n|)`
-//!
-//! `Δv1 = J_t t / m1`, `Δv2 = −J_t t / m2`, `Δω1 = −l1 J_t / I1`, `Δω2 = −l2 J_t / I2`:
-//! momentum and the angular momentum about the contact point are conserved. `J_n` is the
-//! normal impulse of the update: for a wall or an obstacle the disc's momentum change `m |Δv_n|`;
-//! for a pair, whose seed update does not conserve momentum when `e < 1`, the antisymmetric part
-//! `½ (m1 Δv1n − m2 Δv2n)` (what the virial counts too). A pair the update left alone
-//! (`approaching_only`, separating) has `J_n = 0`: no friction.
-//!
-//! **Rolling resistance** then brakes the relative rotation `Ω = ω1 − ω2` with a couple `M`
-//! (`Δω1 = −M / I1`, `Δω2 = M / I2`: angular momentum kept) that stops it, limited to
-//! `μ_r |J_n| r_eff`, `r_eff = l1 l2 / (l1 + l2)` the reduced lever arm (`l1` against a wall or
-//! an obstacle): `M = clamp(Ω / (1/I1 + 1/I2), −μ_r |J_n| r_eff, μ_r |J_n| r_eff)`.
-//!
-//! Each contact reports the energy the two impulses removed, `−J_t (g + g′) / 2 + M (Ω + Ω′)
-//! / 2` (`′` after), which the step sums as its `friction_work`: zero for a sticking contact
-//! with `β = ±1`.
+//! The model, with every formula, is the user guide's `docs/src/concepts/rough-discs.md`;
+//! the names here are that page's: the lever arms `l1`, `l2` (`r s` against a disc or an
+//! obstacle, `r` against a wall), the slip `g = (v1 − v2)·t − l1 ω1 − l2 ω2`, the weight
+//! `w = 1/m1 + 1/m2 + l1²/I1 + l2²/I2`, the tangential impulse
+//! `J_t = clamp(−(1 + β) g / w, ±μ |J_n|)` with `J_n` the normal update's impulse (for a
+//! pair its antisymmetric part `½ (m1 Δv1n − m2 Δv2n)`, which the virial counts too), and the
+//! rolling couple `M = clamp(Ω / (1/I1 + 1/I2), ±μ_r |J_n| r_eff)`. Each contact reports the
+//! energy the two removed, `−J_t (g + g′)/2 + M (Ω + Ω′)/2`, as its `friction_work`.
 
 use crate::lanes::Lanes;
 
