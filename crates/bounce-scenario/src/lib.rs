@@ -6,8 +6,8 @@
 //! what every front end runs (the CLI, the desktop viewer, the web page): world, colours,
 //! time step, view and output plan, the run loop and checkpoints.
 //!
-//! The format, with every default, is documented in the README ("Scenario files") and by
-//! `bounce new gas`.
+//! The format, with every default, is documented in the user guide
+//! (`docs/src/reference/scenario.md`) and by `bounce new gas`.
 
 use std::path::Path;
 
@@ -24,6 +24,7 @@ pub mod analysis;
 pub mod atomic;
 pub mod checkpoint;
 mod colour;
+mod diagnose;
 pub mod observables;
 pub mod obstacles;
 pub use obstacles::{ObstacleGroup, ObstacleSpec};
@@ -236,12 +237,22 @@ pub struct TimeSpec {
 
 /// A radius or a range of radii.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[serde(untagged, expecting = "a radius: a number, or a range [min, max]")]
 pub enum RadiusSpec {
     /// One radius.
     One(f64),
     /// Uniform in `[min, max]`.
     Range([f64; 2]),
+}
+
+/// As the file writes it: `0.5`, or `[0.4, 0.6]`.
+impl std::fmt::Display for RadiusSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RadiusSpec::One(r) => write!(f, "{r}"),
+            RadiusSpec::Range([lo, hi]) => write!(f, "[{lo}, {hi}]"),
+        }
+    }
 }
 
 impl RadiusSpec {
@@ -771,36 +782,49 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     parse(&source, &file)
 }
 
-/// Parses and validates scenario text; `file` names it in messages.
+/// Parses and validates scenario text; `file` names it in messages. Every problem reading
+/// can find is listed, in line order: type errors past the first, and the semantic problems
+/// of the rest (the placement of the discs adds its own: [`Session::from_text_in`]).
 pub fn parse(source: &str, file: &str) -> Result<Scenario, ScenarioError> {
-    let scenario: Scenario = toml::from_str(source).map_err(|e| {
-        let message = e.message().trim().replace('\n', " ");
-        let (line, message) = match e.span() {
-            Some(span) => {
-                let line = line_at(source, span.start);
-                match field_at(source, line) {
-                    Some(field) if !message.contains(&field) => {
-                        (Some(line), format!("`{field}`: {message}"))
-                    }
-                    _ => (Some(line), message),
-                }
-            }
-            None => (None, message),
-        };
-        ScenarioError {
+    let examined = diagnose::examine(source);
+    match examined.scenario {
+        Some(scenario) if examined.problems.is_empty() => Ok(scenario),
+        _ => Err(ScenarioError {
             file: file.to_string(),
-            problems: vec![Problem { line, message }],
-        }
-    })?;
-    let problems = scenario.problems(source);
-    if problems.is_empty() {
-        Ok(scenario)
-    } else {
-        Err(ScenarioError {
-            file: file.to_string(),
-            problems,
-        })
+            problems: examined.problems,
+        }),
     }
+}
+
+/// Reads scenario text and places its discs, listing every problem of both: where the reading
+/// found problems, the tables they are on are left out of the placement, so that the other
+/// tables' problems (a disc outside the box, overlapping tables) are listed beside them.
+pub(crate) fn read_and_build(
+    source: &str,
+    file: &str,
+    limits: &Limits,
+    dir: Option<&Path>,
+) -> Result<(Scenario, Built), ScenarioError> {
+    let examined = diagnose::examine(source);
+    let fail = |problems| ScenarioError {
+        file: file.to_string(),
+        problems,
+    };
+    let Some(mut scenario) = examined.scenario else {
+        return Err(fail(examined.problems));
+    };
+    scenario.dir = dir.map(Path::to_path_buf);
+    if examined.problems.is_empty() {
+        let built = scenario.build_with(source, file, limits)?;
+        return Ok((scenario, built));
+    }
+    let skip: Vec<usize> = examined.problems.iter().filter_map(|p| p.line).collect();
+    let mut problems = examined.problems;
+    if let Err(e) = scenario.build_skipping(source, file, limits, Some(&skip)) {
+        problems.extend(e.problems);
+        diagnose::sort(&mut problems);
+    }
+    Err(fail(problems))
 }
 
 /// The 1-based line of byte offset `at`.
@@ -1192,10 +1216,7 @@ impl Scenario {
                 .or_else(|| line_of_key(source, "world", "boundary"));
             at(
                 line,
-                format!(
-                    "world.{}",
-                    e.to_string().trim_start_matches("invalid config: ")
-                ),
+                format!("world.{} = {}: {}", e.field, e.value, e.expected),
             );
         }
         if self.output.dissipation && !(self.emitter.is_empty() && self.sink.is_empty()) {
@@ -1261,9 +1282,9 @@ impl Scenario {
                 at(
                     line,
                     format!(
-                        "gas #{}: radius {:?} must be finite, > 0, with min <= max",
+                        "gas #{}: radius = {}: must be finite, > 0, with min <= max",
                         k + 1,
-                        gas.radius.range()
+                        gas.radius
                     ),
                 );
             }
@@ -1367,17 +1388,45 @@ impl Scenario {
         file: &str,
         limits: &Limits,
     ) -> Result<Built, ScenarioError> {
+        self.build_skipping(source, file, limits, None)
+    }
+
+    /// [`Scenario::build_with`], listing every problem of the placement rather than the
+    /// first: each table a generator cannot place, each invalid disc (the first few of a
+    /// table), each pair of overlapping tables. With `skip` (the lines of problems a reading
+    /// already reported) the particle tables starting on those lines are left out, and a
+    /// configuration the world refuses (reported too) is replaced by its sound part, so the
+    /// other tables are still checked.
+    fn build_skipping(
+        &self,
+        source: &str,
+        file: &str,
+        limits: &Limits,
+        skip: Option<&[usize]>,
+    ) -> Result<Built, ScenarioError> {
+        let checking = skip.is_some();
+        let skip = skip.unwrap_or_default();
         let fail = |line: Option<usize>, message: String| ScenarioError {
             file: file.to_string(),
             problems: vec![Problem { line, message }],
         };
+        let mut problems: Vec<Problem> = Vec::new();
         let lines = LineIndex::new(source);
         let estimate = self
             .estimate()
             .ok_or_else(|| fail(None, "the particle count overflows".into()))?;
         limits.check(&estimate).map_err(|m| fail(None, m))?;
-        let config = self.config();
-        let mut world = World::new(config.clone()).map_err(|e| fail(None, e.to_string()))?;
+        let mut world = match World::new(self.config()) {
+            Ok(world) => world,
+            Err(_) if checking => {
+                World::new(placement_config(&self.config())).map_err(|_| ScenarioError {
+                    file: file.to_string(),
+                    problems: Vec::new(),
+                })?
+            }
+            Err(e) => return Err(fail(None, e.to_string())),
+        };
+        let config = world.config().clone();
         let mut colours = Vec::new();
         // Every disc so far, so later generators keep clear of earlier tables' discs.
         let mut placed: Vec<Particle> = Vec::new();
@@ -1457,6 +1506,9 @@ impl Scenario {
         entries.sort_by_key(|&(start, _)| start);
         for (start, entry) in entries {
             let line = lines.at(start);
+            if skip.contains(&line) {
+                continue;
+            }
             match entry {
                 Entry::Gas(k) => {
                     let spec = self.gas[k].get_ref();
@@ -1474,11 +1526,20 @@ impl Scenario {
                         drift: spec.drift,
                         seed: spec.seed,
                     };
-                    let mut discs = match spec.placement {
+                    let placement = match spec.placement {
                         Placement::Random => scene::gas_among(&gas, &config, &placed),
                         Placement::Lattice => scene::packed_gas(&gas, &config, &placed),
-                    }
-                    .map_err(|e| fail(Some(line), format!("gas #{}: {e}", k + 1)))?;
+                    };
+                    let mut discs = match placement {
+                        Ok(discs) => discs,
+                        Err(e) => {
+                            problems.push(Problem {
+                                line: Some(line),
+                                message: format!("gas #{}: {e}", k + 1),
+                            });
+                            continue;
+                        }
+                    };
                     if spec.zero_momentum {
                         scene::zero_momentum(&mut discs, &config, spec.drift);
                     }
@@ -1543,9 +1604,16 @@ impl Scenario {
                 }
                 Entry::File(k) => {
                     let spec = self.file[k].get_ref();
-                    let read = self
-                        .read_file(spec, &config)
-                        .map_err(|e| fail(Some(line), format!("file #{}: {e}", k + 1)))?;
+                    let read = match self.read_file(spec, &config) {
+                        Ok(read) => read,
+                        Err(e) => {
+                            problems.push(Problem {
+                                line: Some(line),
+                                message: format!("file #{}: {e}", k + 1),
+                            });
+                            continue;
+                        }
+                    };
                     add(
                         read.discs,
                         (&spec.color, &spec.kind),
@@ -1575,22 +1643,14 @@ impl Scenario {
             }
         }
         // Into the world at once (one at a time, each addition re-measured the world: a
-        // table per disc took `O(N²)`); an invalid disc is named by its table.
-        let total = placed.len();
-        world.add_particles(placed).map_err(|(i, e)| {
-            let k = tables.partition_point(|t| t.0 <= i) - 1;
-            let (start, what, line) = &tables[k];
-            let n = tables.get(k + 1).map_or(total, |t| t.0) - start;
-            fail(
-                Some(*line),
-                format!("{what}: particle {} of {n}: {e}", i - start + 1),
-            )
-        })?;
-        let overlaps = overlapping(&world, &tables);
-        if !overlaps.is_empty() {
+        // table per disc took `O(N²)`); an invalid disc is named by its table, and left out
+        // so that the rest are checked too.
+        add_valid(&mut world, placed, &mut tables, &mut problems);
+        problems.extend(overlapping(&world, &tables));
+        if !problems.is_empty() {
             return Err(ScenarioError {
                 file: file.to_string(),
-                problems: overlaps,
+                problems,
             });
         }
         let emitted = self
@@ -1621,6 +1681,86 @@ impl Scenario {
             typeid,
             emitted,
         })
+    }
+}
+
+/// What of `config` the placement can check discs against when the whole is refused (a
+/// problem already reported): its box, collision distance, mass model and obstacles where
+/// those are sound, the rest at their defaults.
+fn placement_config(config: &Config) -> Config {
+    let geometry = Config {
+        boundary: config.boundary.clone(),
+        collision_radius_scale: config.collision_radius_scale,
+        mass_model: config.mass_model,
+        obstacles: config.obstacles.clone(),
+        ..Config::default()
+    };
+    if geometry.validate().is_ok() {
+        geometry
+    } else {
+        Config {
+            boundary: config.boundary.clone(),
+            ..Config::default()
+        }
+    }
+}
+
+/// The invalid discs a table may report before the rest are counted.
+const INVALID_PER_TABLE: usize = 3;
+
+/// Adds `placed` to `world`, leaving out and reporting each invalid disc (the first few of a
+/// table, then their count); `tables` (each table's first index, name and line) is moved to
+/// the discs kept.
+fn add_valid(
+    world: &mut World,
+    placed: Vec<Particle>,
+    tables: &mut [(usize, String, usize)],
+    problems: &mut Vec<Problem>,
+) {
+    let total = placed.len();
+    let table_of =
+        |i: usize, tables: &[(usize, String, usize)]| tables.partition_point(|t| t.0 <= i) - 1;
+    let mut invalid: Vec<usize> = Vec::new();
+    let mut per_table = vec![0usize; tables.len()];
+    let mut from = 0;
+    while from < total {
+        // All or nothing: on the first invalid disc the world is unchanged, so add the valid
+        // ones before it and go on after it.
+        let Err((k, e)) = world.add_particles(placed[from..].iter().copied()) else {
+            break;
+        };
+        let i = from + k;
+        world
+            .add_particles(placed[from..i].iter().copied())
+            .expect("the discs before the first invalid one are valid");
+        let t = table_of(i, tables);
+        per_table[t] += 1;
+        let (start, what, line) = &tables[t];
+        if per_table[t] <= INVALID_PER_TABLE {
+            let n = tables.get(t + 1).map_or(total, |next| next.0) - start;
+            problems.push(Problem {
+                line: Some(*line),
+                message: format!("{what}: particle {} of {n}: {e}", i - start + 1),
+            });
+        }
+        invalid.push(i);
+        from = i + 1;
+    }
+    for (t, &count) in per_table.iter().enumerate() {
+        if count > INVALID_PER_TABLE {
+            let (_, what, line) = &tables[t];
+            problems.push(Problem {
+                line: Some(*line),
+                message: format!(
+                    "{what}: {} more invalid particles",
+                    count - INVALID_PER_TABLE
+                ),
+            });
+        }
+    }
+    // The tables' first indices among the discs kept.
+    for table in tables.iter_mut() {
+        table.0 -= invalid.partition_point(|&i| i < table.0);
     }
 }
 

@@ -10,6 +10,10 @@
 
 use toml_edit::{DocumentMut, Item, Value};
 
+/// The comment an override leaves on the line it writes, so that a problem found on that line
+/// names the override (`--set world.gravty=1`) rather than a line of the file.
+pub(crate) const MARK: &str = "# --set ";
+
 /// Applies `sets` (`KEY=VALUE` each, VALUE in TOML syntax, a bare word taken as a string) and
 /// `seed` (every `[[gas]]` gets `seed = N + its index`) to `text`. Errors name the override.
 pub fn apply(text: &str, sets: &[String], seed: Option<u64>) -> Result<String, String> {
@@ -29,7 +33,8 @@ pub fn apply(text: &str, sets: &[String], seed: Option<u64>) -> Result<String, S
         if path.iter().any(|p| p.is_empty()) {
             return Err(format!("--set {set}: empty part in the key {key:?}"));
         }
-        set_path(doc.as_item_mut(), &path, value).map_err(|e| format!("--set {set}: {e}"))?;
+        set_path(doc.as_item_mut(), &path, value, Some(set))
+            .map_err(|e| format!("--set {set}: {e}"))?;
     }
     if let Some(seed) = seed
         && let Some(gases) = doc.get_mut("gas").and_then(Item::as_array_of_tables_mut)
@@ -50,7 +55,12 @@ fn parse_value(raw: &str) -> Value {
         .unwrap_or_else(|_| Value::from(raw.to_string()))
 }
 
-fn set_path(item: &mut Item, path: &[&str], value: Value) -> Result<(), String> {
+fn set_path(
+    item: &mut Item,
+    path: &[&str],
+    value: Value,
+    mark: Option<&str>,
+) -> Result<(), String> {
     let (head, rest) = path.split_first().expect("non-empty path");
     if let Some(tables) = item.as_array_of_tables_mut() {
         // A 1-based table number, or the only table.
@@ -73,29 +83,36 @@ fn set_path(item: &mut Item, path: &[&str], value: Value) -> Result<(), String> 
         if rest.is_empty() {
             return Err("a whole table cannot be set".into());
         }
-        return set_path_in_table(table, rest, value);
+        return set_path_in_table(table, rest, value, mark);
     }
+    // A comment cannot stand inside an inline table: no mark there.
+    let mark = mark.filter(|_| !item.is_inline_table());
     let table = item
         .as_table_like_mut()
         .ok_or_else(|| format!("{head:?} is inside a value, not a table"))?;
-    set_path_in_table(table, path, value)
+    set_path_in_table(table, path, value, mark)
 }
 
-/// Sets `path` inside `table`, making tables on the way.
+/// Sets `path` inside `table`, making tables on the way; the value written carries the
+/// override's [`MARK`] where a comment can stand.
 fn set_path_in_table(
     table: &mut dyn toml_edit::TableLike,
     path: &[&str],
-    value: Value,
+    mut value: Value,
+    mark: Option<&str>,
 ) -> Result<(), String> {
     let (head, rest) = path.split_first().expect("non-empty path");
     if rest.is_empty() {
+        if let Some(set) = mark {
+            value.decor_mut().set_suffix(format!(" {MARK}{set}"));
+        }
         table.insert(head, Item::Value(value));
         return Ok(());
     }
     if table.get(head).is_none() {
         table.insert(head, Item::Table(toml_edit::Table::new()));
     }
-    set_path(table.get_mut(head).expect("inserted"), rest, value)
+    set_path(table.get_mut(head).expect("inserted"), rest, value, mark)
 }
 
 #[cfg(test)]

@@ -75,9 +75,7 @@ impl Session {
         limits: &Limits,
         dir: Option<&Path>,
     ) -> Result<Session, ScenarioError> {
-        let mut scenario = crate::parse(text, origin)?;
-        scenario.dir = dir.map(Path::to_path_buf);
-        let built = scenario.build_with(text, origin, limits)?;
+        let (scenario, built) = crate::read_and_build(text, origin, limits, dir)?;
         let colour_by = scenario
             .output
             .color_by
@@ -428,7 +426,8 @@ pub struct TimeStepReport {
     /// The packing fraction, where the world has a box.
     pub packing: Option<f64>,
     /// The expected low bias of the pressure, in percent (negative), from the measured
-    /// table in the README ("Choosing dt"): about `(0.2 + 9 η²) × mean_travel × 100`.
+    /// table in the user guide (`docs/src/concepts/time-step.md`): about
+    /// `(0.2 + 9 η²) × mean_travel × 100`.
     pub pressure_bias_percent: Option<f64>,
     /// A warning with what to change, when the bias is over 1% or discs can tunnel.
     pub warning: Option<String>,

@@ -241,7 +241,8 @@ fn the_tc_model_lets_an_inelastic_pile_settle_that_otherwise_collapses() {
     };
     let [start, _] = energy(&settles);
     // 3.5 time units: fallen and settling. (A pile at rest is no place for events: its
-    // collisions per unit time grow as its gaps close, TC or not; see the README.)
+    // collisions per unit time grow as its gaps close, TC or not; see
+    // the guide's `docs/src/concepts/hard-discs.md`.)
     for _ in 0..70 {
         settles.step(0.05).unwrap();
     }
