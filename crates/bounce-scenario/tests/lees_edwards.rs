@@ -163,7 +163,7 @@ fn misused_shear_fields_are_named_with_their_lines() {
             "boundary = \"lees_edwards\"\nshear_rate = inf",
             "",
             "",
-            "`boundary.shear_rate` = inf: must be finite",
+            "world.boundary.shear_rate = inf: must be finite",
         ),
     ];
     for (world, gas, output, want) in cases {
