@@ -6,6 +6,7 @@ mod checkpoint;
 mod distributed;
 mod events_csv;
 mod observables_csv;
+mod overlay;
 mod plots;
 mod render;
 mod rows;

@@ -1,6 +1,7 @@
 //! `plots.png`: energy and momentum over time, and the final speed histogram, with the 2D
 //! Maxwell–Boltzmann distribution at the measured temperature where it applies (no gravity:
-//! a pile in a gravity field is not a gas in equilibrium).
+//! a pile in a gravity field is not a gas in equilibrium; in a sheared box, the speeds
+//! relative to the flow).
 //!
 //! Axis ranges are made finite and non-empty whatever the data (a run that overflowed stops
 //! before its data is written, but huge finite values must still draw), and tick labels use
@@ -15,7 +16,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Where TrueType fonts are looked for (Debian's fonts-dejavu-core first).
-const FONTS: [&str; 3] = [
+pub(crate) const FONTS: [&str; 3] = [
     "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
     "/usr/share/fonts/TTF/DejaVuSans.ttf",
     "/usr/share/fonts/dejavu/DejaVuSans.ttf",
@@ -218,6 +219,7 @@ fn xy_chart<'a, DB: DrawingBackend>(
         .x_label_formatter(&tick)
         .y_label_formatter(&tick)
         .label_style(("sans-serif", 13))
+        .light_line_style(TRANSPARENT)
         .draw()
         .map_err(plot_err)?;
     Ok(chart)
@@ -319,14 +321,20 @@ fn series<DB: DrawingBackend>(
         (t_start..t_end, "time"),
         (lo..hi, label),
     )?;
+    let columns = area.dim_in_pixel().0 as usize;
     for &(name, value, colour) in lines {
+        let points: Vec<(f64, f64)> = history
+            .iter()
+            .map(|s| (s.time, value(s).clamp(lo, hi)))
+            .filter(|(t, v)| t.is_finite() && v.is_finite())
+            .collect();
+        // Thick lines are drawn segment by segment, and steep short segments then break up;
+        // a line with more than a point every few pixels is drawn one pixel wide, unbroken.
+        let width = if points.len() * 4 > columns { 1 } else { 2 };
         chart
             .draw_series(LineSeries::new(
-                history
-                    .iter()
-                    .map(|s| (s.time, value(s).clamp(lo, hi)))
-                    .filter(|(t, v)| t.is_finite() && v.is_finite()),
-                colour.stroke_width(2),
+                envelope(&points, t_start, t_end, columns),
+                colour.stroke_width(width),
             ))
             .map_err(plot_err)?
             .label(name)
@@ -338,6 +346,39 @@ fn series<DB: DrawingBackend>(
         legend(&mut chart, 13)?;
     }
     Ok(())
+}
+
+/// `points` (in time order) thinned to what `columns` pixel columns show: in each column
+/// its first point, its lowest and highest and its last, in time order: the same picture
+/// from at most four points a column, whatever the row count.
+fn envelope(points: &[(f64, f64)], t0: f64, t1: f64, columns: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 2 * columns.max(1) || t1 <= t0 {
+        return points.to_vec();
+    }
+    let column = |t: f64| (((t - t0) / (t1 - t0)) * columns as f64).floor() as i64;
+    let mut out = Vec::with_capacity(4 * columns);
+    for group in points.chunk_by(|a, b| column(a.0) == column(b.0)) {
+        let low = group
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.1.total_cmp(&b.1.1))
+            .unwrap();
+        let high = group
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.1.total_cmp(&b.1.1))
+            .unwrap();
+        let mut picked = [0, low.0, high.0, group.len() - 1];
+        picked.sort_unstable();
+        let mut last = None;
+        for k in picked {
+            if last != Some(k) {
+                out.push(group[k]);
+                last = Some(k);
+            }
+        }
+    }
+    out
 }
 
 fn histogram<DB: DrawingBackend>(
@@ -362,12 +403,14 @@ fn histogram<DB: DrawingBackend>(
         .filter(|v| v.is_finite())
         .fold(0.0, f64::max);
     let (_, top) = axis_range([0.0, top].into_iter());
+    let what = if world.config().boundary.is_sheared() {
+        "speeds relative to the shear flow"
+    } else {
+        "speed distribution"
+    };
     let mut chart = ChartBuilder::on(area)
         .caption(
-            format!(
-                "speed distribution at step {} (kT = {kt:.4})",
-                world.step_count()
-            ),
+            format!("{what} at step {} (kT = {kt:.4})", world.step_count()),
             ("sans-serif", 18),
         )
         .margin(12)
@@ -384,6 +427,7 @@ fn histogram<DB: DrawingBackend>(
         .x_label_formatter(&tick)
         .y_label_formatter(&tick)
         .label_style(("sans-serif", 13))
+        .light_line_style(TRANSPARENT)
         .draw()
         .map_err(plot_err)?;
     chart
@@ -456,13 +500,17 @@ pub fn curve(
                 .y_label_area_size(84)
                 .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale())
                 .map_err(plot_err)?;
+            // Few labels on log axes: their ticks bunch at each decade's end.
             chart
                 .configure_mesh()
                 .x_desc(x_desc)
                 .y_desc(y_desc)
+                .x_labels(5)
+                .y_labels(5)
                 .x_label_formatter(&tick)
                 .y_label_formatter(&tick)
                 .label_style(("sans-serif", 13))
+                .light_line_style(TRANSPARENT)
                 .draw()
                 .map_err(plot_err)?;
             chart.draw_series(line(points)).map_err(plot_err)?;
@@ -483,4 +531,29 @@ pub fn curve(
         root.present().map_err(plot_err)?;
     }
     save_rgb(&rgb, w, h, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::envelope;
+
+    #[test]
+    fn the_envelope_keeps_each_columns_extremes_and_order() {
+        // 10,000 points over 100 columns: a sawtooth whose extremes are known.
+        let points: Vec<(f64, f64)> = (0..10_000)
+            .map(|k| (k as f64 / 10_000.0, ((k % 37) as f64) - 18.0))
+            .collect();
+        let thin = envelope(&points, 0.0, 1.0, 100);
+        assert!(thin.len() <= 400, "{} points", thin.len());
+        assert!(thin.windows(2).all(|w| w[0].0 <= w[1].0), "in time order");
+        let (lo, hi) = thin.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+            (lo.min(p.1), hi.max(p.1))
+        });
+        assert_eq!((lo, hi), (-18.0, 18.0));
+        // Few points are drawn as they are.
+        assert_eq!(
+            envelope(&points[..50], 0.0, 1.0, 100),
+            points[..50].to_vec()
+        );
+    }
 }

@@ -14,7 +14,8 @@ use tiny_skia::{
 use bounce_scenario::atomic::AtomicFile;
 
 const BACKGROUND: Rgb = [17, 20, 26];
-const BOX_EDGE: Rgb = [90, 96, 110];
+/// The walls, light on the dark background so that they stand out.
+const BOX_EDGE: Rgb = [200, 205, 215];
 /// GIF frames are at most this wide, to keep the file small.
 const GIF_WIDTH: u32 = 480;
 
@@ -27,6 +28,8 @@ pub struct Painter {
     palette: Palette,
     /// Each obstacle's colour.
     obstacle_colours: Vec<Rgb>,
+    /// The time and the colour key, written on each frame.
+    overlay: Option<crate::overlay::Overlay>,
 }
 
 impl Painter {
@@ -48,7 +51,15 @@ impl Painter {
             height,
             palette: Palette::for_world(world, colour_by, colours),
             obstacle_colours: Vec::new(),
+            overlay: None,
         }
+    }
+
+    /// Writes the time and a key to the colouring on each frame; `named` gives the
+    /// scenario's colours their names, for colouring by them.
+    pub fn with_key(mut self, named: Vec<(Rgb, String)>) -> Self {
+        self.overlay = crate::overlay::Overlay::new(&self.palette, named);
+        self
     }
 
     /// Colours disc `id` (a disc an emitter added) with `colour`.
@@ -93,17 +104,15 @@ impl Painter {
         if let Some((min, max)) = world.config().boundary.bounds() {
             let (x0, y0) = self.to_pixel_f32(min[0], max[1]);
             let (x1, y1) = self.to_pixel_f32(max[0], min[1]);
-            if let Some(rect) = Rect::from_ltrb(x0 + 0.5, y0 + 0.5, x1 - 0.5, y1 - 0.5) {
+            if let Some(rect) = Rect::from_ltrb(x0 + 1.0, y0 + 1.0, x1 - 1.0, y1 - 1.0) {
                 let mut paint = Paint::default();
                 paint.set_color(rgb(BOX_EDGE));
                 let path = PathBuilder::from_rect(rect);
-                pixmap.stroke_path(
-                    &path,
-                    &paint,
-                    &Stroke::default(),
-                    Transform::identity(),
-                    None,
-                );
+                let stroke = Stroke {
+                    width: 2.0,
+                    ..Stroke::default()
+                };
+                pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
             }
         }
         self.paint_regions(world, &mut pixmap);
@@ -155,6 +164,9 @@ impl Painter {
                 }
             }
         }
+        if let Some(overlay) = &self.overlay {
+            overlay.draw(&mut pixmap, world.time());
+        }
         pixmap
     }
 }
@@ -190,14 +202,14 @@ impl Painter {
         }
     }
 
-    /// Segments as lines (at least 1.5 pixels wide), pegs as discs to scale.
+    /// Segments as lines (2 pixels wide), pegs as discs to scale.
     fn paint_obstacles(&self, world: &World, pixmap: &mut Pixmap, scale: f64) {
         let mut paint = Paint {
             anti_alias: true,
             ..Paint::default()
         };
         let stroke = Stroke {
-            width: 1.5,
+            width: 2.0,
             line_cap: tiny_skia::LineCap::Round,
             ..Stroke::default()
         };

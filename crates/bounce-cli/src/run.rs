@@ -536,6 +536,7 @@ impl Outputs {
                 session.colours.clone(),
             )
             .with_obstacle_colours(session.obstacle_colours())
+            .with_key(session.colour_key())
         });
         if painter.is_some() {
             std::fs::create_dir_all(dir.join("frames"))

@@ -97,15 +97,20 @@ pub struct SpeedHistogram {
     pub curve: Vec<[f64; 2]>,
 }
 
-/// Histogram of the discs' speeds in `bins` bins, with the theoretical curve.
+/// Histogram of the discs' speeds in `bins` bins, with the theoretical curve. In a sheared
+/// (Lees–Edwards) box the speeds are *peculiar*, relative to the shear flow at each disc's
+/// height, as the temperature is: lab-frame speeds there mix the flow into the spread and
+/// follow no Maxwell–Boltzmann curve.
 pub fn speed_histogram(world: &World, bins: usize, total_mass: f64) -> SpeedHistogram {
     let p = world.particles();
     let bins = bins.max(1);
+    let boundary = &world.config().boundary;
     let speeds: Vec<f64> = p
         .vx()
         .iter()
         .zip(p.vy())
-        .map(|(x, y)| x.hypot(*y))
+        .zip(p.y())
+        .map(|((vx, vy), &y)| (vx - boundary.streaming_velocity(y).unwrap_or(0.0)).hypot(*vy))
         .collect();
     let v_max = speeds.iter().copied().fold(0.0, f64::max).max(1e-12) * 1.05;
     let width = v_max / bins as f64;
@@ -313,5 +318,43 @@ mod tests {
                 "{v}: {density} vs {by_hand}"
             );
         }
+    }
+
+    #[test]
+    fn in_a_sheared_box_the_speeds_are_relative_to_the_flow() {
+        use bounce::Boundary;
+        let world = |shear_rate: f64| {
+            let mut world = World::new(Config {
+                boundary: Boundary::LeesEdwards {
+                    min: [0.0, 0.0],
+                    max: [10.0, 10.0],
+                    shear_rate,
+                },
+                ..Config::default()
+            })
+            .unwrap();
+            // Discs riding the flow, u_x = 0.5 (y − 5), and one more moving across it at 1.
+            for y in [1.0, 3.0, 7.0, 9.0] {
+                let v = [0.5 * (y - 5.0), 0.0];
+                world.add_particle(Particle::new([5.0, y], v, 0.2)).unwrap();
+            }
+            world
+                .add_particle(Particle::new([2.0, 5.0], [0.0, 1.0], 0.2))
+                .unwrap();
+            world
+        };
+        let h = speed_histogram(&world(0.5), 4, 1.0);
+        // Relative to the flow: four at rest, one at 1 (the top of the range, 1.05).
+        assert_eq!(
+            h.density
+                .iter()
+                .map(|d| d * h.width * 5.0)
+                .map(f64::round)
+                .collect::<Vec<_>>(),
+            [4.0, 0.0, 0.0, 1.0]
+        );
+        // The same discs in a box at rest: their lab-frame speeds, up to 2.
+        let h = speed_histogram(&world(0.0), 4, 1.0);
+        assert!(h.width * 4.0 > 2.0);
     }
 }

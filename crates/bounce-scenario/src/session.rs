@@ -130,6 +130,24 @@ impl Session {
         out
     }
 
+    /// The scenario's colours with the particle types that wear them, each colour once, in
+    /// order of first use (the emitters' after the tables'): the key to frames coloured by
+    /// `color`.
+    pub fn colour_key(&self) -> Vec<(Rgb, String)> {
+        let tables = self.colours.iter().zip(&self.typeid);
+        let emitted = self.emitted.iter().map(|(c, t)| (c, t));
+        let mut out: Vec<(Rgb, String)> = Vec::new();
+        for (colour, &t) in tables.chain(emitted) {
+            if let Some(c) = colour
+                && !out.iter().any(|(seen, _)| seen == c)
+            {
+                let name = self.types.get(t as usize).cloned().unwrap_or_default();
+                out.push((*c, name));
+            }
+        }
+        out
+    }
+
     /// A session of a shipped scenario (`gas`, `pile`, ...: [`crate::TEMPLATES`]).
     pub fn builtin(name: &str) -> Result<Session, String> {
         let text = crate::template(name).ok_or_else(|| {

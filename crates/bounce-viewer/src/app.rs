@@ -531,20 +531,18 @@ impl ViewerApp {
             self.structure(ui);
         }
         ui.separator();
-        // Speeds under gravity or in a sheared flow are no single Maxwell–Boltzmann
-        // distribution: the curve would mislead there, so only the histogram is drawn.
+        // Speeds under gravity are no single Maxwell–Boltzmann distribution: the curve
+        // would mislead there, so only the histogram is drawn. In a sheared box the speeds
+        // are relative to the flow (`analysis::speed_histogram`), which the curve fits.
         let config = self.session.world.config();
-        let no_curve = if config.gravity != [0.0, 0.0] {
-            Some("gravity")
+        let no_curve = config.gravity != [0.0, 0.0];
+        if no_curve {
+            ui.label("speeds (no Maxwell–Boltzmann curve under gravity)");
         } else if config.boundary.is_sheared() {
-            Some("a sheared flow")
+            ui.label("speeds relative to the shear flow vs 2D Maxwell–Boltzmann");
         } else {
-            None
-        };
-        match no_curve {
-            None => ui.label("speeds vs 2D Maxwell–Boltzmann"),
-            Some(why) => ui.label(format!("speeds (no Maxwell–Boltzmann curve under {why})")),
-        };
+            ui.label("speeds vs 2D Maxwell–Boltzmann");
+        }
         let (bars, curve) = self.speed_histogram();
         Plot::new("speeds")
             .height(170.0)
@@ -554,7 +552,7 @@ impl ViewerApp {
                 plot.bar_chart(
                     BarChart::new("simulation", bars).color(Color32::from_rgb(120, 160, 220)),
                 );
-                if no_curve.is_none() {
+                if !no_curve {
                     plot.line(Line::new("Maxwell–Boltzmann", curve).color(Color32::RED));
                 }
             });
