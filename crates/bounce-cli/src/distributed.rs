@@ -272,7 +272,8 @@ fn run(
         });
     };
     let t = Instant::now();
-    outputs.finish(&whole, stopped)?;
+    let ran = whole.step_count() - start_step;
+    let headline = outputs.finish(&whole, stopped, Some((physics_time, ran)))?;
     output_time += t.elapsed().as_secs_f64();
     let report = Report {
         title: &session.title,
@@ -284,6 +285,7 @@ fn run(
         output_time,
         setup_time,
         time_step,
+        headline,
     };
     report.print(args, &whole);
     println!("{traffic}");

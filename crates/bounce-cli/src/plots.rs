@@ -11,7 +11,9 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use bounce::World;
+use bounce_scenario::Piston;
 use bounce_scenario::analysis::hard_disc_adiabat;
+use bounce_scenario::headline::Headline;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
@@ -38,22 +40,6 @@ pub struct Sample {
     pub piston: Option<[f64; 4]>,
 }
 
-/// A piston: a moving segment of `length` across a box whose gas lies on one side, the
-/// side `towards` points to from it (the area between it and the wall there).
-#[derive(Clone, Copy, Debug)]
-pub struct Piston {
-    /// The segment's length: pressure is force over length.
-    pub length: f64,
-    /// The unit normal from the piston into the gas.
-    pub towards: [f64; 2],
-    /// The box: the gas fills from the piston to the wall `towards` points at.
-    pub min: [f64; 2],
-    pub max: [f64; 2],
-    /// The area the gas's discs cover as hard discs (`π (s r)²` each, `s` the collision
-    /// radius scale): its packing fraction sets the adiabat's steepness.
-    pub disc_area: f64,
-}
-
 pub(crate) fn register_font() -> Result<()> {
     let bytes = FONTS
         .iter()
@@ -72,16 +58,27 @@ pub fn draw(
     world: &World,
     total_mass: f64,
     piston: Option<&Piston>,
+    headline: Option<&Headline>,
     path: &Path,
 ) -> Result<()> {
     register_font()?;
-    let (w, h) = (1400u32, 560u32);
+    // A headline adds a strip below: its value and reference, and its series against theory.
+    let strip = match headline {
+        Some(h) if !h.series.points.is_empty() => 300,
+        Some(_) => 50,
+        None => 0,
+    };
+    let (w, h) = (1400u32, 560u32 + strip);
     let mut rgb = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
+        let (root, below) = root.split_vertically(560);
+        if let Some(headline) = headline {
+            headline_strip(&below, headline)?;
+        }
         let (left, right) = root.split_horizontally(w / 2);
-        let (top, bottom) = left.split_vertically(h / 2);
+        let (top, bottom) = left.split_vertically(280);
         let gravity = world.config().gravity != [0.0, 0.0];
         if gravity {
             series(
@@ -235,30 +232,14 @@ fn pressure_area<DB: DrawingBackend>(
     piston: &Piston,
 ) -> Result<()> {
     let [nx, ny] = piston.towards;
-    // The gas's area: the box's width across the normal times the gap to the far wall.
     let points: Vec<(f64, f64)> = history
         .iter()
         .skip(1)
         .filter_map(|s| s.piston)
         .map(|[x, y, fx, fy]| {
-            let gap = if nx.abs() > ny.abs() {
-                let wall = if nx > 0.0 {
-                    piston.max[0]
-                } else {
-                    piston.min[0]
-                };
-                (wall - x).abs() * (piston.max[1] - piston.min[1])
-            } else {
-                let wall = if ny > 0.0 {
-                    piston.max[1]
-                } else {
-                    piston.min[1]
-                };
-                (wall - y).abs() * (piston.max[0] - piston.min[0])
-            };
             // The gas pushes the piston against the normal.
             let pressure = -(fx * nx + fy * ny) / piston.length;
-            (gap, pressure)
+            (piston.gas_area([x, y]), pressure)
         })
         .filter(|(a, p)| a.is_finite() && p.is_finite() && *a > 0.0)
         .collect();
@@ -345,6 +326,76 @@ fn series<DB: DrawingBackend>(
     if lines.len() > 1 {
         legend(&mut chart, 13)?;
     }
+    Ok(())
+}
+
+/// The headline: its summary as the caption, and its series (the measured points) against
+/// its reference (a line) where it has one.
+fn headline_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    headline: &Headline,
+) -> Result<()> {
+    let caption = headline.summary();
+    let series = &headline.series;
+    if series.points.is_empty() {
+        area.draw(&Text::new(
+            caption,
+            (16, 16),
+            ("sans-serif", 16).into_font().color(&BLACK),
+        ))
+        .map_err(plot_err)?;
+        return Ok(());
+    }
+    let all = || series.points.iter().chain(&series.reference);
+    let (x_lo, x_hi) = axis_range(all().map(|p| p.0));
+    let (y_lo, y_hi) = axis_range(all().map(|p| p.1).chain([0.0]));
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 15))
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(84)
+        .build_cartesian_2d(x_lo..x_hi, y_lo..y_hi)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(series.x)
+        .y_desc(series.y)
+        .x_labels(8)
+        .y_labels(5)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style(("sans-serif", 13))
+        .light_line_style(TRANSPARENT)
+        .draw()
+        .map_err(plot_err)?;
+    chart
+        .draw_series(
+            series
+                .points
+                .iter()
+                .map(|&(x, y)| Circle::new((x, y.clamp(y_lo, y_hi)), 3, BLUE.filled())),
+        )
+        .map_err(plot_err)?
+        .label("measured")
+        .legend(|(x, y)| Circle::new((x + 7, y), 3, BLUE.filled()));
+    if !series.reference.is_empty() {
+        let name = headline
+            .reference
+            .as_ref()
+            .map_or("theory".to_string(), |r| r.1.clone());
+        chart
+            .draw_series(LineSeries::new(
+                series
+                    .reference
+                    .iter()
+                    .map(|&(x, y)| (x, y.clamp(y_lo, y_hi))),
+                RED.stroke_width(2),
+            ))
+            .map_err(plot_err)?
+            .label(name)
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], RED.stroke_width(2)));
+    }
+    legend(&mut chart, 13)?;
     Ok(())
 }
 

@@ -27,6 +27,7 @@ use crate::plots;
 use crate::render::{GifWriter, Painter, frame_files, gif_from_frames, save_png};
 use crate::stats_csv::{ScenarioColumns, StatsCsv, Totals, read_history};
 use bounce_scenario::gsd::GsdWriter;
+use bounce_scenario::headline::{self, Headline, HeadlineKind, Rows};
 
 /// What `bounce run` was asked to do.
 pub struct RunArgs {
@@ -51,8 +52,9 @@ pub enum Outcome {
 }
 
 /// The files of a run in its folder: what `--force` clears.
-const RUN_FILES: [&str; 9] = [
+const RUN_FILES: [&str; 10] = [
     "stats.csv",
+    "summary.json",
     "animation.gif",
     "trajectory.gsd",
     "plots.png",
@@ -122,7 +124,8 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
     let physics_time = (clock.elapsed().as_secs_f64() - output_time).max(0.0);
     let world = &session.world;
     let t = Instant::now();
-    outputs.finish(world, !reached)?;
+    let ran = world.step_count() - start_step;
+    let headline = outputs.finish(world, !reached, Some((physics_time, ran)))?;
     output_time += t.elapsed().as_secs_f64();
 
     let report = Report {
@@ -135,6 +138,7 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
         output_time,
         setup_time,
         time_step: time_step.to_string(),
+        headline,
     };
     report.print(args, world);
     Ok(report.outcome(args, world, reached, &stop))
@@ -153,6 +157,8 @@ pub(crate) struct Report<'a> {
     pub output_time: f64,
     pub setup_time: f64,
     pub time_step: String,
+    /// What the run demonstrates, measured (`[output] headline`).
+    pub headline: Option<String>,
 }
 
 impl Report<'_> {
@@ -194,6 +200,9 @@ impl Report<'_> {
             "time: physics {:.2} s ({rate}), outputs {:.2} s, setup {:.2} s",
             self.physics_time, self.output_time, self.setup_time,
         );
+        if let Some(headline) = &self.headline {
+            println!("{headline}");
+        }
         println!("{}", self.time_step);
         println!("outputs in {}", args.out.display());
     }
@@ -279,7 +288,7 @@ fn overflowed(
             totals.reset(true, outputs.stats.row_energy(&world));
         }
     }
-    outputs.finish_at(&world, totals.checkpoint())?;
+    outputs.finish_at(&world, totals.checkpoint(), None)?;
     bail!(
         "step {}: particle {id} has a non-finite position, velocity or kinetic energy: dt, gravity or speeds \
          are too large for f64. Outputs and checkpoint.bin hold the run up to step {step}.",
@@ -405,7 +414,74 @@ pub(crate) struct Outputs {
     /// Each emitter's colour and type, for the discs it adds.
     emitted: Vec<(Option<bounce_scenario::Rgb>, u32)>,
     /// The first named moving segment, when the box has walls: plots show its pressure.
-    piston: Option<(String, plots::Piston)>,
+    piston: Option<(String, bounce_scenario::Piston)>,
+    /// What the run's headline is measured from, with `[output] headline`.
+    headline: Option<HeadlineSetup>,
+}
+
+/// What a headline is measured from besides the run's files, kept from its start: the
+/// scenario, its world at step 0 (built anew for a resumed run) and the discs' types.
+struct HeadlineSetup {
+    kind: HeadlineKind,
+    scenario: bounce_scenario::Scenario,
+    start: Option<World>,
+    typeid: Vec<u32>,
+}
+
+impl HeadlineSetup {
+    fn new(session: &Session) -> Result<Option<Self>> {
+        let Some(kind) = session.output.headline else {
+            return Ok(None);
+        };
+        // The throughput needs no start; a million discs are not built twice for it.
+        let start = if kind == HeadlineKind::Throughput {
+            None
+        } else {
+            let fresh = Session::from_text_in(
+                &session.origin,
+                &session.text,
+                &bounce_scenario::Limits::default(),
+                session.scenario.dir.as_deref(),
+            )?;
+            Some(fresh.world)
+        };
+        Ok(Some(HeadlineSetup {
+            kind,
+            scenario: session.scenario.clone(),
+            start,
+            typeid: session.typeid.clone(),
+        }))
+    }
+
+    /// Measures the headline on the run's files in `dir` and its last world.
+    fn measure(
+        &self,
+        world: &World,
+        dir: &Path,
+        timing: Option<(f64, u64)>,
+    ) -> Result<Headline, String> {
+        let stats = std::fs::read_to_string(dir.join("stats.csv")).map_err(|e| e.to_string())?;
+        let rows = Rows::parse(&stats);
+        let gsd = dir.join("trajectory.gsd");
+        let frames = if matches!(self.kind, HeadlineKind::Diffusion | HeadlineKind::Mixing)
+            && gsd.exists()
+        {
+            bounce_scenario::trajectory::Trajectory::open(&gsd)?.snapshots(0, None)?
+        } else {
+            Vec::new()
+        };
+        let run = headline::Run {
+            scenario: &self.scenario,
+            start: self.start.as_ref().unwrap_or(world),
+            end: world,
+            typeid: &self.typeid,
+            rows: &rows,
+            frames: &frames,
+            physics_seconds: timing.map(|t| t.0),
+            steps_run: timing.map_or(0, |t| t.1),
+        };
+        headline::measure(self.kind, &run)
+    }
 }
 
 impl Outputs {
@@ -555,7 +631,8 @@ impl Outputs {
             observables: None,
             recorded: [None; 3],
             emitted: session.emitted.clone(),
-            piston: piston_of(session),
+            piston: session.piston(),
+            headline: HeadlineSetup::new(session)?,
         })
     }
 
@@ -655,18 +732,31 @@ impl Outputs {
     }
 
     /// Completes every file; `stopped`: the run ends before its last step, which is then
-    /// written everywhere.
-    pub(crate) fn finish(mut self, world: &World, stopped: bool) -> Result<()> {
+    /// written everywhere. `timing`, the physics' seconds and the steps it took, goes into
+    /// a throughput headline. Returns the headline's line for the summary, with
+    /// `[output] headline`.
+    pub(crate) fn finish(
+        mut self,
+        world: &World,
+        stopped: bool,
+        timing: Option<(f64, u64)>,
+    ) -> Result<Option<String>> {
         // The checkpoint keeps the totals as the schedule has them, before the extra row.
         let totals = self.run_state();
         if stopped {
             self.write(world, true)?;
         }
-        self.finish_at(world, totals)
+        self.finish_at(world, totals, timing)
     }
 
-    /// Writes the checkpoint of `world` with `totals` and completes the files.
-    fn finish_at(self, world: &World, totals: RunState) -> Result<()> {
+    /// Writes the checkpoint of `world` with `totals` and completes the files; measures the
+    /// headline (into `summary.json`, and `plots.png`).
+    fn finish_at(
+        self,
+        world: &World,
+        totals: RunState,
+        timing: Option<(f64, u64)>,
+    ) -> Result<Option<String>> {
         checkpoint::save(world, Some(&totals), &self.dir.join("checkpoint.bin"))?;
         if let Some(counts) = world.collision_counts() {
             write_collisions(world, &counts, &self.dir.join("collisions.csv"))?;
@@ -680,6 +770,17 @@ impl Outputs {
         }
         if let Some(gsd) = self.gsd {
             gsd.finish()?;
+        }
+        let headline = self
+            .headline
+            .as_ref()
+            .map(|setup| setup.measure(world, &self.dir, timing));
+        if let Some(Ok(headline)) = &headline {
+            bounce_scenario::atomic::write(
+                &self.dir.join("summary.json"),
+                headline.to_json().as_bytes(),
+            )
+            .with_context(|| format!("cannot write {}", self.dir.join("summary.json").display()))?;
         }
         // A resumed run's GIF and plots are drawn from the whole run's files.
         if let Some(gif) = self.gif {
@@ -700,10 +801,14 @@ impl Outputs {
                 world,
                 self.total_mass,
                 self.piston.as_ref().map(|(_, p)| p),
+                headline.as_ref().and_then(|h| h.as_ref().ok()),
                 &self.dir.join("plots.png"),
             )?;
         }
-        Ok(())
+        Ok(headline.map(|h| match h {
+            Ok(h) => format!("headline: {}", h.summary()),
+            Err(e) => format!("headline: not measured: {e}"),
+        }))
     }
 }
 
@@ -718,56 +823,4 @@ fn write_collisions(world: &World, counts: &[u64], path: &Path) -> Result<()> {
     }
     bounce_scenario::atomic::write(path, text.as_bytes())
         .with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// The first named moving segment of the scenario and how it faces the gas (towards the
-/// box's centre), in a walled box.
-fn piston_of(session: &Session) -> Option<(String, plots::Piston)> {
-    let bounce::Boundary::Walls { min, max, .. } = session.world.config().boundary else {
-        return None;
-    };
-    let group = session
-        .scenario
-        .obstacle_groups()
-        .into_iter()
-        .find(|g| g.moving && g.name.is_some())?;
-    let bounce::Shape::Segment { a, b } = session
-        .world
-        .config()
-        .obstacles
-        .get(group.range.start)?
-        .shape
-    else {
-        return None;
-    };
-    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
-    let normal = [-(b[1] - a[1]) / length, (b[0] - a[0]) / length];
-    // Towards the centre of the box (where the gas is, for a piston at one end).
-    let centre = [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0];
-    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
-    let side = (centre[0] - mid[0]) * normal[0] + (centre[1] - mid[1]) * normal[1];
-    let towards = if side >= 0.0 {
-        normal
-    } else {
-        [-normal[0], -normal[1]]
-    };
-    // The discs as hard discs: the collision distance of two is their radii's sum scaled.
-    let scale = session.world.config().collision_radius_scale;
-    let disc_area = session
-        .world
-        .particles()
-        .radius()
-        .iter()
-        .map(|r| std::f64::consts::PI * (scale * r).powi(2))
-        .sum();
-    Some((
-        group.name?,
-        plots::Piston {
-            length,
-            towards,
-            min,
-            max,
-            disc_area,
-        },
-    ))
 }

@@ -208,6 +208,7 @@ msd = true
 pressure_tensor = true
 collision_counts = true
 dissipation = true
+headline = "maxwell_boltzmann"
 "#,
     );
     let out = scratch.path("run");
@@ -300,6 +301,25 @@ fn the_outputs_page_lists_every_column_a_run_writes() {
             "{name} is on the page but this run wrote none"
         );
     }
+    // summary.json's keys, against the page's.
+    let json = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let keys: BTreeSet<String> = json
+        .lines()
+        .filter_map(|l| {
+            l.trim()
+                .strip_prefix('"')?
+                .split_once("\":")
+                .map(|(k, _)| k.to_string())
+        })
+        .collect();
+    let documented: BTreeSet<String> = sections["`summary.json`"]
+        .iter()
+        .filter_map(|r| code_spans(&r[0]).into_iter().next())
+        .collect();
+    assert!(
+        documented.is_superset(&keys) && keys.len() >= 8,
+        "summary.json's keys {keys:?} against {documented:?}"
+    );
     // What `bounce analyze` writes, against its files.
     let analysis = scratch.path("analysis");
     let (code, _, err) = output(

@@ -201,11 +201,26 @@ pub fn hard_disc_adiabat(a0: f64, p0: f64, disc_area: f64, a: f64) -> f64 {
 }
 
 /// The angle of repose of a heap on the floor, in degrees: the mean of its two flanks'
-/// slopes. The surface is the highest disc top `y + r` in each column of `column` width
-/// (empty columns left out); each flank is the straight line fitted (least squares) to the
-/// surface from the peak outwards while it is between 20 % and 80 % of the peak's height
-/// above `floor`. `None` without a flank of three columns.
+/// slopes ([`repose_flanks`]). `None` without a flank of three columns.
 pub fn repose_angle(world: &World, floor: f64, column: f64) -> Option<f64> {
+    match repose_flanks(world, floor, column)? {
+        (Some(a), Some(b)) => Some((a + b) / 2.0),
+        (a, b) => a.or(b),
+    }
+}
+
+/// A heap's surface: the highest disc top `y + r` above `floor` in each column of `column`
+/// width, as `(column centre, top)` (empty columns left out).
+pub fn heap_surface(world: &World, floor: f64, column: f64) -> Vec<(f64, f64)> {
+    let (left, tops) = column_tops(world, floor, column);
+    tops.iter()
+        .enumerate()
+        .filter_map(|(k, t)| t.map(|t| (left + (k as f64 + 0.5) * column, t)))
+        .collect()
+}
+
+/// The leftmost centre and each column's highest top above `floor`.
+fn column_tops(world: &World, floor: f64, column: f64) -> (f64, Vec<Option<f64>>) {
     let p = world.particles();
     let left = p.x().iter().copied().fold(f64::INFINITY, f64::min);
     let mut tops: Vec<Option<f64>> = Vec::new();
@@ -217,6 +232,15 @@ pub fn repose_angle(world: &World, floor: f64, column: f64) -> Option<f64> {
         let top = p.y()[i] + p.radius()[i] - floor;
         tops[k] = Some(tops[k].map_or(top, |t: f64| t.max(top)));
     }
+    (left, tops)
+}
+
+/// The angles of a heap's left and right flanks, in degrees. The surface is
+/// [`heap_surface`]'s; each flank is the straight line fitted (least squares) to the surface
+/// from the peak outwards while it is between 20 % and 80 % of the peak's height above
+/// `floor` (`None` for a flank of fewer than three columns). `None` without discs.
+pub fn repose_flanks(world: &World, floor: f64, column: f64) -> Option<(Option<f64>, Option<f64>)> {
+    let (_, tops) = column_tops(world, floor, column);
     let (peak, height) = tops
         .iter()
         .enumerate()
@@ -239,12 +263,10 @@ pub fn repose_angle(world: &World, floor: f64, column: f64) -> Option<f64> {
         });
         Some((sxy / sxx).abs().atan().to_degrees())
     };
-    let left_flank = flank(&mut (0..peak).rev());
-    let right_flank = flank(&mut (peak + 1..tops.len()));
-    match (left_flank, right_flank) {
-        (Some(a), Some(b)) => Some((a + b) / 2.0),
-        (a, b) => a.or(b),
-    }
+    Some((
+        flank(&mut (0..peak).rev()),
+        flank(&mut (peak + 1..tops.len())),
+    ))
 }
 
 #[cfg(test)]

@@ -30,6 +30,7 @@ pub mod obstacles;
 pub use obstacles::{ObstacleGroup, ObstacleSpec};
 #[cfg(not(target_arch = "wasm32"))]
 pub mod gsd;
+pub mod headline;
 pub mod palette;
 mod session;
 #[cfg(not(target_arch = "wasm32"))]
@@ -39,7 +40,7 @@ pub mod support;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod trajectory;
 pub use colour::{Rgb, parse_colour, ramp, spin_ramp};
-pub use session::{OBSTACLE_GREY, Session, TimeStepReport, view_bounds};
+pub use session::{OBSTACLE_GREY, Piston, Session, TimeStepReport, view_bounds};
 pub mod overrides;
 
 /// The shipped scenarios, by name: `bounce new NAME` writes them out.
@@ -593,6 +594,9 @@ pub struct OutputSpec {
     /// The energy dissipated since the previous row in `stats.csv` (`dissipated`); default
     /// false. Not with emitters or sinks, whose discs bring and take energy.
     pub dissipation: bool,
+    /// What the run demonstrates, measured at its end into the summary, `summary.json` and
+    /// `plots.png` ([`headline::HeadlineKind`]); default none.
+    pub headline: Option<headline::HeadlineKind>,
 }
 
 /// `[output] profile`.
@@ -624,6 +628,7 @@ impl Default for OutputSpec {
             pressure_tensor: false,
             collision_counts: false,
             dissipation: false,
+            headline: None,
         }
     }
 }

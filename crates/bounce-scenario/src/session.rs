@@ -148,6 +148,12 @@ impl Session {
         out
     }
 
+    /// The first named moving segment of the scenario and how it faces the gas (towards the
+    /// box's centre), in a walled box: a piston, with its name.
+    pub fn piston(&self) -> Option<(String, Piston)> {
+        piston_of(&self.scenario, &self.world)
+    }
+
     /// A session of a shipped scenario (`gas`, `pile`, ...: [`crate::TEMPLATES`]).
     pub fn builtin(name: &str) -> Result<Session, String> {
         let text = crate::template(name).ok_or_else(|| {
@@ -579,4 +585,81 @@ mod time_step_tests {
         );
         assert!(report.pressure_bias_percent.unwrap() < -1.0);
     }
+}
+
+/// A piston: a moving segment of `length` across a box whose gas lies on one side, the
+/// side `towards` points to from it (the area between it and the wall there).
+#[derive(Clone, Copy, Debug)]
+pub struct Piston {
+    /// The segment's length: pressure is force over length.
+    pub length: f64,
+    /// The unit normal from the piston into the gas.
+    pub towards: [f64; 2],
+    /// The box's lower-left corner: the gas fills from the piston to the wall `towards`
+    /// points at.
+    pub min: [f64; 2],
+    /// The box's upper-right corner.
+    pub max: [f64; 2],
+    /// The area the gas's discs cover as hard discs (`π (s r)²` each, `s` the collision
+    /// radius scale): its packing fraction sets the adiabat's steepness.
+    pub disc_area: f64,
+}
+
+impl Piston {
+    /// The area of gas between a piston centred at `centre` and the far wall.
+    pub fn gas_area(&self, centre: [f64; 2]) -> f64 {
+        let [nx, ny] = self.towards;
+        if nx.abs() > ny.abs() {
+            let wall = if nx > 0.0 { self.max[0] } else { self.min[0] };
+            (wall - centre[0]).abs() * (self.max[1] - self.min[1])
+        } else {
+            let wall = if ny > 0.0 { self.max[1] } else { self.min[1] };
+            (wall - centre[1]).abs() * (self.max[0] - self.min[0])
+        }
+    }
+}
+
+/// The first named moving segment of the scenario and how it faces the gas (towards the
+/// box's centre), in a walled box: a piston, with its name.
+pub(crate) fn piston_of(scenario: &crate::Scenario, world: &World) -> Option<(String, Piston)> {
+    let bounce::Boundary::Walls { min, max, .. } = world.config().boundary else {
+        return None;
+    };
+    let group = scenario
+        .obstacle_groups()
+        .into_iter()
+        .find(|g| g.moving && g.name.is_some())?;
+    let bounce::Shape::Segment { a, b } = world.config().obstacles.get(group.range.start)?.shape
+    else {
+        return None;
+    };
+    let length = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let normal = [-(b[1] - a[1]) / length, (b[0] - a[0]) / length];
+    // Towards the centre of the box (where the gas is, for a piston at one end).
+    let centre = [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0];
+    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let side = (centre[0] - mid[0]) * normal[0] + (centre[1] - mid[1]) * normal[1];
+    let towards = if side >= 0.0 {
+        normal
+    } else {
+        [-normal[0], -normal[1]]
+    };
+    // The discs as hard discs: the collision distance of two is their radii's sum scaled.
+    let scale = world.config().collision_radius_scale;
+    let disc_area = world
+        .particles()
+        .radius()
+        .iter()
+        .map(|r| std::f64::consts::PI * (scale * r).powi(2))
+        .sum();
+    Some((
+        group.name?,
+        Piston {
+            length,
+            towards,
+            min,
+            max,
+            disc_area,
+        },
+    ))
 }

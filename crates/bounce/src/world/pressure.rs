@@ -31,8 +31,7 @@ impl World {
     /// momentum, which include the shear flow, are not used).
     pub fn pressure(&self, kinetic_energy: f64, momentum: [f64; 2], virial: f64) -> Option<f64> {
         let m = &self.measured;
-        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
-        let area = Geometry::new(&self.config).area(mean_radius)?;
+        let area = self.pressure_area()?;
         let kinetic = if self.config.boundary.is_sheared() {
             self.peculiar_kinetic_energy()
         } else {
@@ -45,6 +44,25 @@ impl World {
             kinetic_energy - drift
         };
         Some((kinetic + virial) / area)
+    }
+
+    /// The area the pressure is taken over: the area the discs' centres move in, a periodic
+    /// box's, or between walls the box less the discs' mean radius at each wall. `None` in an
+    /// open world.
+    ///
+    /// ```
+    /// use bounce::{Boundary, Config, Particle, World};
+    /// let mut world = World::new(Config {
+    ///     boundary: Boundary::walls([0.0, 0.0], [10.0, 10.0]),
+    ///     ..Config::default()
+    /// })?;
+    /// world.add_particle(Particle::new([5.0, 5.0], [0.0, 0.0], 0.5))?;
+    /// assert_eq!(world.pressure_area(), Some(9.0 * 9.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn pressure_area(&self) -> Option<f64> {
+        let mean_radius = self.measured.radius_sum / self.particles.len().max(1) as f64;
+        Geometry::new(&self.config).area(mean_radius)
     }
 
     /// The pressure tensor `[P_xx, P_yy, P_xy]` now, with [`crate::Config::pressure_tensor`]
@@ -72,9 +90,7 @@ impl World {
         if !self.config.pressure_tensor {
             return None;
         }
-        let m = &self.measured;
-        let mean_radius = m.radius_sum / self.particles.len().max(1) as f64;
-        let area = Geometry::new(&self.config).area(mean_radius)?;
+        let area = self.pressure_area()?;
         let mut kinetic = [0.0; 3];
         for (mass, u) in self.peculiar_velocities() {
             kinetic[0] += mass * u[0] * u[0];
