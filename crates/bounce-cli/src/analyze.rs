@@ -1,6 +1,6 @@
 //! `bounce analyze TRAJECTORY.gsd --out DIR`: the structure of a trajectory's frames
 //! (`bounce_scenario::structure`) written as `rdf.csv` (`r,g`), `psi6.csv` (`step,psi6`) and
-//! `msd.csv` (`lag,msd`, the lag in steps), each with a PNG beside it. Every file is written
+//! `msd.csv` (`lag,time,msd`: the lag in steps and, where the file records its frames' times, in time), each with a PNG beside it. Every file is written
 //! whole or not at all.
 
 use std::io::Write;
@@ -78,12 +78,36 @@ pub fn analyze(request: &Request) -> Result<()> {
     let mut written = vec!["rdf.csv", "psi6.csv"];
     match msd(&snapshots) {
         Ok((lags, values)) => {
-            let rows: Vec<(f64, f64)> = lags.iter().map(|&l| l as f64).zip(values).collect();
-            write_csv(&request.out.join("msd.csv"), "lag,msd", &rows)?;
+            // The lag in time too, where the frames record their times (bounce's do): the
+            // time per step from the first and last frames.
+            let per_step = match (snapshots.first(), snapshots.last()) {
+                (Some(a), Some(b)) if b.step > a.step => b
+                    .time
+                    .zip(a.time)
+                    .map(|(tb, ta)| (tb - ta) / (b.step - a.step) as f64),
+                _ => None,
+            };
+            let text: String = lags
+                .iter()
+                .zip(&values)
+                .map(|(&lag, msd)| match per_step {
+                    Some(dt) => format!("{lag},{},{msd}\n", lag as f64 * dt),
+                    None => format!("{lag},,{msd}\n"),
+                })
+                .collect();
+            let path = request.out.join("msd.csv");
+            bounce_scenario::atomic::write(&path, format!("lag,time,msd\n{text}").as_bytes())
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            let (x, scale) = match per_step {
+                Some(dt) => ("lag (time)", dt),
+                None => ("lag (steps)", 1.0),
+            };
+            let rows: Vec<(f64, f64)> =
+                lags.iter().map(|&l| l as f64 * scale).zip(values).collect();
             crate::plots::curve(
                 &request.out.join("msd.png"),
                 "mean-square displacement",
-                ("lag (steps)", "MSD"),
+                (x, "MSD"),
                 &rows,
                 true,
                 None,

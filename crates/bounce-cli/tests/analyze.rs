@@ -115,10 +115,26 @@ fn the_hard_disc_fluid_touches_at_hendersons_contact_value_and_forgets_beyond_th
     // The fluid has no bond order.
     let order = columns(&out.join("psi6.csv"));
     assert!(order.iter().all(|(_, p)| *p < 0.1), "{order:?}");
-    // Diffusing discs: the MSD grows with the lag.
-    let msd = columns(&out.join("msd.csv"));
-    assert_eq!(msd[0], (0.0, 0.0));
-    assert!(msd.windows(2).all(|w| w[1].1 > w[0].1));
+    // Diffusing discs: the MSD grows with the lag, given in steps and in time (the frames
+    // record their times: dt = 0.1 a step here).
+    let text = std::fs::read_to_string(out.join("msd.csv")).unwrap();
+    assert!(text.starts_with("lag,time,msd\n"), "{text}");
+    let msd: Vec<[f64; 3]> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    assert_eq!(msd[0], [0.0, 0.0, 0.0]);
+    assert!(msd.windows(2).all(|w| w[1][2] > w[0][2]));
+    assert!(
+        msd[1..]
+            .iter()
+            .all(|[lag, time, _]| (time / lag - 0.1).abs() < 1e-9),
+        "{msd:?}"
+    );
     for png in ["rdf.png", "psi6.png", "msd.png"] {
         assert!(
             std::fs::metadata(out.join(png)).unwrap().len() > 5_000,

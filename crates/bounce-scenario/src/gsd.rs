@@ -388,6 +388,14 @@ impl GsdWriter {
         }
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
+        let time = world.time();
+        self.chunk(
+            crate::trajectory::TIME_CHUNK,
+            Type::F64,
+            1,
+            1,
+            &time.to_le_bytes(),
+        )?;
         if let Some(offset) = world.lees_edwards_offset() {
             let chunk = crate::trajectory::SLIDE_CHUNK;
             self.chunk(chunk, Type::F64, 1, 1, &offset.to_le_bytes())?;

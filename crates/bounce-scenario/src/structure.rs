@@ -57,6 +57,8 @@ impl Edges {
 pub struct Snapshot {
     /// The step the frame was taken at.
     pub step: u64,
+    /// The simulated time it was taken at, where the file records it (bounce's do).
+    pub time: Option<f64>,
     /// The box's size.
     pub size: [f64; 2],
     /// How the box ends.
@@ -99,6 +101,7 @@ impl Snapshot {
         };
         Snapshot {
             step: world.step_count(),
+            time: Some(world.time()),
             slide: world.lees_edwards_offset(),
             size,
             edges,
@@ -603,6 +606,7 @@ mod tests {
         let n = position.len();
         Snapshot {
             step: 0,
+            time: None,
             size,
             edges,
             position,

@@ -19,6 +19,9 @@ pub const BOUNDARY_CHUNK: &str = "log/bounce/boundary";
 /// the images above stand).
 pub const SLIDE_CHUNK: &str = "log/bounce/lees_edwards_offset";
 
+/// The chunk holding a frame's simulated time (float64), in bounce's files.
+pub const TIME_CHUNK: &str = "log/bounce/time";
+
 /// An open GSD file and its index.
 pub struct Trajectory {
     file: std::fs::File,
@@ -191,8 +194,15 @@ impl Trajectory {
             (true, None) => return Err(format!("no {SLIDE_CHUNK} in a Lees–Edwards file")),
             (false, _) => None,
         };
+        let time = match chunk(TIME_CHUNK) {
+            Some(c) => {
+                Some(floats(&mut self.file, c, TIME_CHUNK, 1, 1)?[0]).filter(|t| t.is_finite())
+            }
+            None => None,
+        };
         Ok(Snapshot {
             step,
+            time,
             size,
             edges,
             position,
