@@ -35,10 +35,11 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use bounce::law::{Body, Law, resolve_pair};
-use bounce::scene::{self, Gas, Speeds, maxwell_boltzmann_cdf};
+use bounce::scene::{self, Gas, Speeds};
 use bounce::{
     Boundary, Config, MassModel, Particle, RestingContacts, RestitutionModel, VelocityUpdate, World,
 };
+use bounce_scenario::headline::{enskog_viscosity, maxwell_boltzmann_distance};
 use plotters::prelude::*;
 
 /// How big the reference runs are.
@@ -90,26 +91,9 @@ fn maxwell_boltzmann(size: Size) -> Result<Check> {
     for _ in 0..(size.time / dt) as usize {
         world.step(dt)?;
     }
-    // Equal masses (the radius): kT per disc is the kinetic energy per disc.
-    let kt = world.stats().kinetic_energy / world.len() as f64;
-    let p = world.particles();
-    let mut speeds: Vec<f64> = p
-        .vx()
-        .iter()
-        .zip(p.vy())
-        .map(|(x, y)| x.hypot(*y))
-        .collect();
-    speeds.sort_by(f64::total_cmp);
-    let n = speeds.len() as f64;
-    let d = speeds
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| {
-            let f = maxwell_boltzmann_cdf(v, kt, 0.5);
-            (f - k as f64 / n).abs().max(((k + 1) as f64 / n - f).abs())
-        })
-        .fold(0.0, f64::max);
-    let critical = 1.63 / n.sqrt();
+    let (d, critical, _) =
+        maxwell_boltzmann_distance(&world).context("the gas has no moving discs")?;
+    let n = world.len();
     Ok(Check {
         name: "speeds relax to 2D Maxwell–Boltzmann (all start at speed 1)".into(),
         measured: format!("KS distance {d:.4}"),
@@ -417,10 +401,8 @@ fn shear_viscosity(quick: bool) -> Result<Check> {
         samples += 1.0;
     }
     let (eta, kt) = (-xy / samples / rate, kt / samples);
-    let chi = (1.0 - 7.0 * phi / 16.0) / (1.0f64 - phi).powi(2);
-    let eta0 = (0.5 * kt / std::f64::consts::PI).sqrt() / 2.0;
-    let pi = std::f64::consts::PI;
-    let enskog = eta0 * (1.0 / chi + 2.0 * phi + (1.0 + 8.0 / pi) * phi * phi * chi);
+    // Mass = radius = 0.5, diameter 1.
+    let enskog = enskog_viscosity(phi, kt, 0.5, 1.0);
     let tolerance = if quick { 0.15 } else { 0.10 };
     Ok(Check {
         name: "shear viscosity at packing 0.3 (Lees–Edwards, γ̇ = 0.1)".into(),

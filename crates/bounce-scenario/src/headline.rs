@@ -376,24 +376,26 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     if n > 0.0 { sum / n } else { f64::NAN }
 }
 
-fn maxwell_boltzmann(run: &Run) -> Result<Headline, String> {
-    let world = run.end;
+/// The Kolmogorov–Smirnov distance of `world`'s speeds (relative to the flow in a sheared
+/// box) to 2D Maxwell–Boltzmann at their temperature, the mix of the discs' masses' Rayleigh
+/// curves; with the 1 % critical value `1.63 / √N` and the temperature. `None` without two
+/// moving discs.
+pub fn maxwell_boltzmann_distance(world: &World) -> Option<(f64, f64, f64)> {
     let total_mass = analysis::total_mass(world);
     let kt = analysis::temperature(world, total_mass);
     let masses = analysis::masses(world);
     let boundary = &world.config().boundary;
     let p = world.particles();
-    let mut speeds: Vec<(f64, f64)> = (0..p.len())
+    let mut speeds: Vec<f64> = (0..p.len())
         .map(|i| {
             let flow = boundary.streaming_velocity(p.y()[i]).unwrap_or(0.0);
-            ((p.vx()[i] - flow).hypot(p.vy()[i]), masses[i])
+            (p.vx()[i] - flow).hypot(p.vy()[i])
         })
         .collect();
     if speeds.len() < 2 || kt <= 0.0 {
-        return Err("a Maxwell–Boltzmann fit needs two moving discs".into());
+        return None;
     }
-    speeds.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // The expected distribution: the discs' own masses' Rayleigh curves, mixed.
+    speeds.sort_by(f64::total_cmp);
     let sample: Vec<f64> = masses
         .iter()
         .step_by((masses.len() / 500).max(1))
@@ -410,12 +412,17 @@ fn maxwell_boltzmann(run: &Run) -> Result<Headline, String> {
     let distance = speeds
         .iter()
         .enumerate()
-        .map(|(k, &(v, _))| {
+        .map(|(k, &v)| {
             let f = cdf(v);
             (f - k as f64 / n).abs().max(((k + 1) as f64 / n - f).abs())
         })
         .fold(0.0, f64::max);
-    let critical = 1.63 / n.sqrt();
+    Some((distance, 1.63 / n.sqrt(), kt))
+}
+
+fn maxwell_boltzmann(run: &Run) -> Result<Headline, String> {
+    let (distance, critical, kt) = maxwell_boltzmann_distance(run.end)
+        .ok_or("a Maxwell–Boltzmann fit needs two moving discs")?;
     Ok(Headline {
         reference: Some((critical, "1% critical value".into())),
         detail: if distance < critical {
