@@ -5,6 +5,7 @@ mod checkpoint;
 #[cfg(feature = "mpi")]
 mod distributed;
 mod events_csv;
+mod font;
 mod observables_csv;
 mod overlay;
 mod plots;

@@ -36,10 +36,7 @@ impl Overlay {
     /// The overlay for `palette`; `named` lists the scenario's colours with their names
     /// (used when colouring by them). `None` where no font is installed.
     pub fn new(palette: &Palette, named: Vec<(Rgb, String)>) -> Option<Overlay> {
-        let font = crate::plots::FONTS
-            .iter()
-            .find_map(|p| std::fs::read(p).ok())
-            .and_then(|bytes| FontVec::try_from_vec(bytes).ok())?;
+        let font = crate::font::bytes().and_then(|bytes| FontVec::try_from_vec(bytes).ok())?;
         let key = match palette.colour_by {
             ColorBy::Speed => Key::Ramp {
                 what: "speed",

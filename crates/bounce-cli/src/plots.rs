@@ -17,13 +17,6 @@ use bounce_scenario::headline::Headline;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-/// Where TrueType fonts are looked for (Debian's fonts-dejavu-core first).
-pub(crate) const FONTS: [&str; 3] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-];
-
 /// One sample of the run's history.
 #[derive(Clone, Copy, Debug)]
 pub struct Sample {
@@ -41,12 +34,9 @@ pub struct Sample {
 }
 
 pub(crate) fn register_font() -> Result<()> {
-    let bytes = FONTS
-        .iter()
-        .find_map(|p| std::fs::read(p).ok())
-        .ok_or_else(|| {
-            anyhow!("no TrueType font found for plots.png (install fonts-dejavu-core)")
-        })?;
+    let bytes = crate::font::bytes().ok_or_else(|| {
+        anyhow!("no TrueType font found for plots.png (install fonts-dejavu-core)")
+    })?;
     let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
     plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
         .map_err(|_| anyhow!("cannot load the font for plots.png"))

@@ -100,6 +100,8 @@ radius = 1.0
         problems[1].contains("overlap") && problems[1].contains("disc #2"),
         "{problems:#?}"
     );
+    // With disc #1 left out, the ids are not a run's: the message names tables, not ids.
+    assert!(!problems[1].contains("discs 0 and 1"), "{problems:#?}");
 }
 
 #[test]

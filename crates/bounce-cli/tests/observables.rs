@@ -359,8 +359,9 @@ fn the_dissipated_energy_balances_the_work_put_in_and_matches_the_collisional_lo
             .args(["--set", "output.dissipation=true"]),
     );
     assert_eq!(code, 1);
+    // Named by the override that set it.
     assert!(
-        stderr.contains("output.dissipation: not with [[emitter]] or [[sink]]"),
+        stderr.contains("--set output.dissipation=true: not with [[emitter]] or [[sink]]"),
         "{stderr}"
     );
 }

@@ -4,8 +4,8 @@
 //! | file | owns |
 //! |---|---|
 //! | `config.rs` | `Config`: keyword arguments to the Rust `Config`, validated |
-//! | `world.rs` | `World`: NumPy in and out, `step` without the GIL, the storage view |
-//! | `gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
+//! | `world/mod.rs` | `World`: NumPy in and out, `step` without the GIL, the storage view |
+//! | `world/gsd.rs` | `GSDWriter`: the CLI's GSD writer fed by `World.step` |
 //! | `obstacle.rs` | `Obstacle` (segments, pegs; fixed or moving), `polyline`, `rectangle` |
 //! | `sources.rs` | `Emitter` and `Sink`: discs added and removed during a run |
 //! | `structure.rs` | `rdf`, `psi6`, `msd`: a GSD trajectory's structure, as `bounce analyze`; `speed_histogram` |
@@ -14,7 +14,6 @@ use pyo3::prelude::*;
 
 mod config;
 mod events;
-mod gsd;
 mod obstacle;
 mod query;
 mod sources;
@@ -27,7 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<config::Config>()?;
     m.add_class::<world::World>()?;
     m.add_class::<world::StorageView>()?;
-    m.add_class::<gsd::GsdWriter>()?;
+    m.add_class::<world::GsdWriter>()?;
     m.add_class::<obstacle::Obstacle>()?;
     m.add_class::<sources::Emitter>()?;
     m.add_class::<sources::Sink>()?;

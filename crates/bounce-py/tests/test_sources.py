@@ -64,3 +64,26 @@ def test_the_gsd_of_an_emptying_box_has_a_varying_number_of_discs(bounce_bin, tm
     csv = (tmp_path / "run" / "stats.csv").read_text().splitlines()
     assert csv[0].split(",")[12] == "particles"
     assert int(csv[-1].split(",")[12]) == counts[-1]
+
+
+def test_discs_an_emitter_adds_keep_its_type_in_gsd_files(tmp_path):
+    """A scenario's emitter of `type = "grain"`: the discs it adds are grains in the GSD
+    file Python writes, as in the command line's (not the first type, as they once were)."""
+    scenario = tmp_path / "pour.toml"
+    scenario.write_text(
+        "[world]\nmin = [0.0, 0.0]\nmax = [20.0, 20.0]\ngravity = [0.0, -9.81]\n"
+        "[time]\ndt = 0.01\nsteps = 100\n"
+        "[[disc]]\nposition = [10.0, 1.0]\nradius = 0.5\ntype = \"ball\"\n"
+        "[[emitter]]\nregion = { min = [5.0, 15.0], max = [15.0, 18.0] }\nrate = 40\n"
+        "radius = 0.3\ntype = \"grain\"\n"
+    )
+    world = bounce.World.from_scenario(scenario)
+    path = tmp_path / "pour.gsd"
+    with bounce.GSDWriter(path, every=50) as gsd_file:
+        world.add_writer(gsd_file)
+        world.step(100)
+    with gsd.hoomd.open(str(path)) as frames:
+        last = frames[-1]
+        types = [last.particles.types[t] for t in last.particles.typeid]
+    assert types[0] == "ball"
+    assert len(types) > 20 and all(t == "grain" for t in types[1:]), types

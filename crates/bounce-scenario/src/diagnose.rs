@@ -189,8 +189,15 @@ fn attribute_override(source: &str, problem: &mut Problem) {
         return;
     };
     if let Some((_, set)) = text.split_once(crate::overrides::MARK) {
+        let set = set.trim();
+        // The override names the key and its value: a message's own naming of them goes.
+        let key = set.split('=').next().unwrap_or(set).trim();
+        let message = match problem.message.split_once(": ") {
+            Some((naming, rest)) if naming.contains(key) => rest,
+            _ => &problem.message,
+        };
+        problem.message = format!("--set {set}: {message}");
         problem.line = None;
-        problem.message = format!("--set {}: {}", set.trim(), problem.message);
     }
 }
 

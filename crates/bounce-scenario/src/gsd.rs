@@ -389,15 +389,9 @@ impl GsdWriter {
         let (energy, _) = crate::analysis::motion_sums(world);
         self.chunk("log/kinetic_energy", Type::F64, 1, 1, &energy.to_le_bytes())?;
         let time = world.time();
-        self.chunk(
-            crate::trajectory::TIME_CHUNK,
-            Type::F64,
-            1,
-            1,
-            &time.to_le_bytes(),
-        )?;
+        self.chunk(TIME_CHUNK, Type::F64, 1, 1, &time.to_le_bytes())?;
         if let Some(offset) = world.lees_edwards_offset() {
-            let chunk = crate::trajectory::SLIDE_CHUNK;
+            let chunk = SLIDE_CHUNK;
             self.chunk(chunk, Type::F64, 1, 1, &offset.to_le_bytes())?;
         }
         if self.frame == 0 {
@@ -408,7 +402,7 @@ impl GsdWriter {
                 Boundary::Periodic { .. } => 2,
                 Boundary::LeesEdwards { .. } => 3,
             };
-            self.chunk(crate::trajectory::BOUNDARY_CHUNK, Type::U8, 1, 1, &[edges])?;
+            self.chunk(BOUNDARY_CHUNK, Type::U8, 1, 1, &[edges])?;
         }
         self.frame += 1;
         Ok(())
@@ -507,6 +501,16 @@ impl GsdWriter {
     }
 }
 
+/// The chunk naming the box's edges (see the module docs).
+pub const BOUNDARY_CHUNK: &str = "log/bounce/boundary";
+
+/// The chunk holding a Lees–Edwards box's offset in each frame (`float64`: how far along x
+/// the images above stand).
+pub const SLIDE_CHUNK: &str = "log/bounce/lees_edwards_offset";
+
+/// The chunk holding a frame's simulated time (float64), in bounce's files.
+pub const TIME_CHUNK: &str = "log/bounce/time";
+
 /// Centre and size of the box HOOMD should see: the walls or periodic box; for an open
 /// world, centred on the origin (fixed, so positions are absolute) and just holding every
 /// disc.
@@ -545,4 +549,56 @@ fn images_by_id(world: &World) -> Vec<u8> {
         .flat_map(|&(_, [ix, iy])| [ix, iy, 0])
         .flat_map(i32::to_le_bytes)
         .collect()
+}
+
+/// The entry of chunk `name` in frame `frame`, else in frame 0 (the schema's rule).
+pub(crate) fn find<'a>(
+    names: &[String],
+    entries: &'a [RawEntry],
+    name: &str,
+    frame: u64,
+) -> Option<&'a RawEntry> {
+    let id = names.iter().position(|n| n == name)? as u16;
+    let in_frame = |f: u64| entries.iter().find(|e| e.id == id && e.frame == f);
+    in_frame(frame).or_else(|| in_frame(0))
+}
+
+/// A chunk's values as `f64`, `m` per row, checking its shape.
+pub(crate) fn floats(
+    file: &mut std::fs::File,
+    chunk: &RawEntry,
+    name: &str,
+    n: u64,
+    m: u32,
+) -> std::result::Result<Vec<f64>, String> {
+    if chunk.n != n || chunk.m < m {
+        return Err(format!(
+            "{name} is {} × {}, expected {n} × {m} (particles/N = {n})",
+            chunk.n, chunk.m
+        ));
+    }
+    let width = match chunk.kind {
+        9 => 4,
+        10 => 8,
+        k => {
+            return Err(format!(
+                "{name} has GSD type {k}; expected float32 or float64"
+            ));
+        }
+    };
+    let bytes = read_at(file, chunk.location, n * chunk.m as u64 * width)
+        .map_err(|e| format!("{name}: {e}"))?;
+    let row = chunk.m as usize * width as usize;
+    let mut out = Vec::with_capacity(n as usize * m as usize);
+    for r in bytes.chunks_exact(row) {
+        for k in 0..m as usize {
+            let at = k * width as usize;
+            out.push(if width == 4 {
+                f32::from_le_bytes(r[at..at + 4].try_into().expect("4")) as f64
+            } else {
+                f64::from_le_bytes(r[at..at + 8].try_into().expect("8"))
+            });
+        }
+    }
+    Ok(out)
 }

@@ -211,16 +211,12 @@ impl Session {
     /// Gives the discs the emitters added in the last step their emitter's colour and type
     /// (`colours` and `typeid` are by id, and grow with the ids given).
     pub fn note_emitted(&mut self) {
-        for &(id, k) in self.world.emitted_last_step() {
-            let (colour, kind) = self.emitted.get(k as usize).copied().unwrap_or((None, 0));
-            let id = id.0 as usize;
-            if self.colours.len() <= id {
-                self.colours.resize(id + 1, None);
-                self.typeid.resize(id + 1, 0);
-            }
-            self.colours[id] = colour;
-            self.typeid[id] = kind;
-        }
+        note_emitted(
+            &self.world,
+            &self.emitted,
+            Some(&mut self.colours),
+            &mut self.typeid,
+        );
     }
 
     /// Steps until step `target`, calling `after_step` after each; it returns
@@ -662,4 +658,30 @@ pub(crate) fn piston_of(scenario: &crate::Scenario, world: &World) -> Option<(St
             disc_area,
         },
     ))
+}
+
+/// Gives the discs the emitters added in `world`'s last step their emitter's type in
+/// `typeid` (and colour in `colours`), by id, from `emitted` (each emitter's colour and type,
+/// [`Session::emitted`]): the one bookkeeping of emitted discs that the viewer, the web page
+/// and Python share (the CLI's outputs do the same as they write).
+pub fn note_emitted(
+    world: &World,
+    emitted: &[(Option<Rgb>, u32)],
+    mut colours: Option<&mut Vec<Option<Rgb>>>,
+    typeid: &mut Vec<u32>,
+) {
+    for &(id, k) in world.emitted_last_step() {
+        let (colour, kind) = emitted.get(k as usize).copied().unwrap_or((None, 0));
+        let id = id.0 as usize;
+        if typeid.len() <= id {
+            typeid.resize(id + 1, 0);
+        }
+        typeid[id] = kind;
+        if let Some(colours) = colours.as_deref_mut() {
+            if colours.len() <= id {
+                colours.resize(id + 1, None);
+            }
+            colours[id] = colour;
+        }
+    }
 }

@@ -21,7 +21,7 @@ use std::path::Path;
 use bounce::{Boundary, Particle};
 
 pub use crate::FileDiscs;
-use crate::gsd::{RawEntry, read_at, read_layout};
+use crate::gsd::{RawEntry, find, floats, read_at, read_layout};
 
 /// Where the world's box is: its centre and size (`None` in an open world).
 #[derive(Clone, Copy, Debug)]
@@ -117,58 +117,6 @@ pub(crate) fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, Stri
         ));
     }
     Ok(chosen as u64)
-}
-
-/// The entry of chunk `name` in frame `frame`, else in frame 0 (the schema's rule).
-pub(crate) fn find<'a>(
-    names: &[String],
-    entries: &'a [RawEntry],
-    name: &str,
-    frame: u64,
-) -> Option<&'a RawEntry> {
-    let id = names.iter().position(|n| n == name)? as u16;
-    let in_frame = |f: u64| entries.iter().find(|e| e.id == id && e.frame == f);
-    in_frame(frame).or_else(|| in_frame(0))
-}
-
-/// A chunk's values as `f64`, `m` per row, checking its shape.
-pub(crate) fn floats(
-    file: &mut std::fs::File,
-    chunk: &RawEntry,
-    name: &str,
-    n: u64,
-    m: u32,
-) -> Result<Vec<f64>, String> {
-    if chunk.n != n || chunk.m < m {
-        return Err(format!(
-            "{name} is {} × {}, expected {n} × {m} (particles/N = {n})",
-            chunk.n, chunk.m
-        ));
-    }
-    let width = match chunk.kind {
-        9 => 4,
-        10 => 8,
-        k => {
-            return Err(format!(
-                "{name} has GSD type {k}; expected float32 or float64"
-            ));
-        }
-    };
-    let bytes = read_at(file, chunk.location, n * chunk.m as u64 * width)
-        .map_err(|e| format!("{name}: {e}"))?;
-    let row = chunk.m as usize * width as usize;
-    let mut out = Vec::with_capacity(n as usize * m as usize);
-    for r in bytes.chunks_exact(row) {
-        for k in 0..m as usize {
-            let at = k * width as usize;
-            out.push(if width == 4 {
-                f32::from_le_bytes(r[at..at + 4].try_into().expect("4")) as f64
-            } else {
-                f64::from_le_bytes(r[at..at + 8].try_into().expect("8"))
-            });
-        }
-    }
-    Ok(out)
 }
 
 fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> {

@@ -9,18 +9,10 @@
 
 use std::path::Path;
 
-use crate::gsd::{RawEntry, read_at, read_layout};
-use crate::start::{find, floats};
+use crate::gsd::{
+    BOUNDARY_CHUNK, RawEntry, SLIDE_CHUNK, TIME_CHUNK, find, floats, read_at, read_layout,
+};
 use crate::structure::{Edges, Snapshot};
-
-/// The chunk naming the box's edges (see the module docs).
-pub const BOUNDARY_CHUNK: &str = "log/bounce/boundary";
-/// The chunk holding a Lees–Edwards box's offset in each frame (`float64`: how far along x
-/// the images above stand).
-pub const SLIDE_CHUNK: &str = "log/bounce/lees_edwards_offset";
-
-/// The chunk holding a frame's simulated time (float64), in bounce's files.
-pub const TIME_CHUNK: &str = "log/bounce/time";
 
 /// An open GSD file and its index.
 pub struct Trajectory {

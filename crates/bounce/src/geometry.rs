@@ -14,33 +14,9 @@
 //!
 //! Adding a boundary kind means a [`crate::Boundary`] variant and its answers here.
 
-use serde::{Deserialize, Serialize};
-
 use crate::config::{Boundary, Config};
 use crate::law::{Law, MAX_INTERACTION_DIAMETER, hold};
 use crate::particles::{Particle, ParticleError};
-
-/// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
-/// Divide by the elapsed time and the wall's length for the pressure. See
-/// [`crate::StepSums`] for an example.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct WallImpulse {
-    /// The wall at `min[0]`.
-    pub left: f64,
-    /// The wall at `max[0]`.
-    pub right: f64,
-    /// The wall at `min[1]`.
-    pub bottom: f64,
-    /// The wall at `max[1]`.
-    pub top: f64,
-}
-
-impl WallImpulse {
-    /// Sum over the four walls. See [`crate::StepStats`] for an example.
-    pub fn total(&self) -> f64 {
-        self.left + self.right + self.bottom + self.top
-    }
-}
 
 /// The boundary in the form the stages use, with the derived quantities precomputed.
 #[derive(Clone, Copy, Debug, PartialEq)]

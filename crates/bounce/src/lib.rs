@@ -146,10 +146,9 @@ pub use config::{
     Obstacle, ObstacleState, Region, RestingContacts, RestitutionModel, Sensor, Shape, Sink,
     Thermostat, ThermostatKind, VelocityUpdate,
 };
-pub use geometry::WallImpulse;
 pub use parallel::{DEFAULT_PARALLEL_MIN_WORK, ThreadsError};
 pub use part::{DiscRecord, Tally, Travel, wrap_coordinate};
 pub use particles::{Particle, ParticleError, ParticleId, Particles};
 pub use stats::{StepProfile, StepStats};
-pub use sum::{ExactSum, StepSums, WallSums};
+pub use sum::{ExactSum, StepSums, WallImpulse, WallSums};
 pub use world::{SavedWorld, SensorCount, SensorState, StepError, World, WorldError};

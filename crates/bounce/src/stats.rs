@@ -3,9 +3,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::MassModel;
-use crate::geometry::WallImpulse;
 use crate::parallel::{CHUNK, Executor};
 use crate::particles::Particles;
+use crate::sum::WallImpulse;
 
 /// Measurements of the last [`crate::World::step`].
 ///

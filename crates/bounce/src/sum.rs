@@ -14,6 +14,8 @@
 //! The lanes are allocated on the first non-zero term, so a sum that stays empty (a chunk of
 //! discs none of which met a wall) costs nothing.
 
+use serde::{Deserialize, Serialize};
+
 /// 32-bit lanes from 2^-1074 (the smallest subnormal) up: 2046 exponents plus 53 mantissa bits
 /// need 66, and one more holds the carries of a total above `f64::MAX`.
 const LANES: usize = 67;
@@ -21,6 +23,28 @@ const LANES: usize = 67;
 /// adds less than 2^52 in magnitude (a term's bits above the lowest 32 of its window), to a
 /// lane below 2^32 after a carry.
 const ADDS_BEFORE_CARRY: u32 = 1 << 10;
+
+/// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
+/// Divide by the elapsed time and the wall's length for the pressure. See
+/// [`crate::StepSums`] for an example.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallImpulse {
+    /// The wall at `min[0]`.
+    pub left: f64,
+    /// The wall at `max[0]`.
+    pub right: f64,
+    /// The wall at `min[1]`.
+    pub bottom: f64,
+    /// The wall at `max[1]`.
+    pub top: f64,
+}
+
+impl WallImpulse {
+    /// Sum over the four walls. See [`crate::StepStats`] for an example.
+    pub fn total(&self) -> f64 {
+        self.left + self.right + self.bottom + self.top
+    }
+}
 
 /// An exact, order-independent sum of `f64` terms.
 ///
@@ -254,10 +278,10 @@ impl WallSums {
         self.friction.merge(&other.friction);
     }
 
-    /// The totals as a [`crate::WallImpulse`]. See [`StepSums`] for an example.
-    pub fn impulse(&self) -> crate::WallImpulse {
+    /// The totals as a [`WallImpulse`]. See [`StepSums`] for an example.
+    pub fn impulse(&self) -> WallImpulse {
         let [left, right, bottom, top] = [0, 1, 2, 3].map(|k| self.walls[k].value());
-        crate::WallImpulse {
+        WallImpulse {
             left,
             right,
             bottom,

@@ -1,8 +1,11 @@
-//! The core's modules form layers: no import circle among `crates/bounce/src`'s top-level
-//! modules (a folder counts as one), and no file over the size that keeps one idea a file.
+//! The workspace's modules form layers: no import circle among any crate's top-level modules
+//! (a folder counts as one), and in the core no layer that looks up and no file over the size
+//! that keeps one idea a file.
 //!
 //! Read from the sources: every `crate::module` a file names outside its unit tests is an
-//! import of that module. A circle is reported with its path.
+//! import of that module, and so is `crate::Name` where the crate's root re-exports `Name`
+//! from a module (`pub use module::Name`), and `super::module` in a top-level module's file.
+//! A circle is reported with its path.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -11,7 +14,12 @@ use std::path::{Path, PathBuf};
 /// The most production lines (unit tests excluded) a core file may have.
 const MAX_PRODUCTION_LINES: usize = 600;
 
-fn sources() -> Vec<PathBuf> {
+/// The core's sources.
+fn core() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+fn sources(src: &Path) -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         for entry in fs::read_dir(dir).unwrap() {
             let path = entry.unwrap().path();
@@ -23,18 +31,26 @@ fn sources() -> Vec<PathBuf> {
         }
     }
     let mut out = Vec::new();
-    walk(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut out);
+    walk(src, &mut out);
     out.sort();
     out
 }
 
-/// The top-level module a source file belongs to (`None` for `lib.rs`).
-fn module_of(path: &Path) -> Option<String> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let rel = path.strip_prefix(&src).unwrap();
+/// The top-level module a source file of the crate in `src` belongs to (`None` for the
+/// crate's root, `lib.rs` or `main.rs`).
+fn module_of(src: &Path, path: &Path) -> Option<String> {
+    let rel = path.strip_prefix(src).unwrap();
     let first = rel.components().next()?.as_os_str().to_str()?.to_owned();
     let name = first.trim_end_matches(".rs").to_owned();
-    (name != "lib").then_some(name)
+    (name != "lib" && name != "main").then_some(name)
+}
+
+/// Whether `path` is a top-level module's own file (`src/a.rs` or `src/a/mod.rs`), where
+/// `super::` is the crate's root.
+fn top_level(src: &Path, path: &Path) -> bool {
+    let rel = path.strip_prefix(src).unwrap();
+    let depth = rel.components().count();
+    depth == 1 || (depth == 2 && rel.ends_with("mod.rs"))
 }
 
 /// A file's text without its unit tests: up to `#[cfg(test)]` before `mod tests {`, and
@@ -51,47 +67,107 @@ fn production(path: &Path, text: &str) -> String {
     lines[..end].join("\n")
 }
 
-/// The top-level modules named as `crate::name` in `text`, comments left out.
-fn imports(text: &str, modules: &BTreeSet<String>) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    for line in text.lines() {
-        let code = line.split("//").next().unwrap_or("");
-        let mut rest = code;
-        while let Some(at) = rest.find("crate::") {
-            let after = &rest[at + "crate::".len()..];
-            let name: String = after
-                .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect();
-            if modules.contains(&name) {
-                out.insert(name);
-            }
-            rest = after;
+/// The names a crate's root re-exports from its modules: `pub use module::{A, b::C};` gives
+/// `A` and `C` from `module`.
+fn reexports(root: &str, modules: &BTreeSet<String>) -> BTreeMap<String, String> {
+    let code: String = root
+        .lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let mut out = BTreeMap::new();
+    for statement in code.split(';') {
+        let Some(at) = statement.find("use ") else {
+            continue;
+        };
+        let path = statement[at + 4..].trim();
+        let Some((module, rest)) = path.split_once("::") else {
+            continue;
+        };
+        if !modules.contains(module) {
+            continue;
         }
-        // `use crate::{a, b::c}` groups.
-        if let Some(at) = code.find("use crate::{") {
-            for part in code[at + "use crate::{".len()..].split([',', '{', '}']) {
-                let name = part.trim().split("::").next().unwrap_or("").to_owned();
-                if modules.contains(&name) {
-                    out.insert(name);
-                }
+        for part in rest.split([',', '{', '}']) {
+            let part = part.trim();
+            let name = part.rsplit(" as ").next().unwrap_or(part);
+            let name = name.rsplit("::").next().unwrap_or(name).trim();
+            if !name.is_empty() && name != "self" {
+                out.insert(name.to_owned(), module.to_owned());
             }
         }
     }
     out
 }
 
-fn graph() -> BTreeMap<String, BTreeSet<String>> {
-    let files = sources();
-    let modules: BTreeSet<String> = files.iter().filter_map(|p| module_of(p)).collect();
+/// The top-level modules `text` names: `crate::name` (a module, or a name the root
+/// re-exports from one) and, in a top-level module's file, `super::name`; comments left out.
+fn imports(
+    text: &str,
+    modules: &BTreeSet<String>,
+    names: &BTreeMap<String, String>,
+    top: bool,
+) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let resolve = |name: &str, out: &mut BTreeSet<String>| {
+        if modules.contains(name) {
+            out.insert(name.to_owned());
+        } else if let Some(module) = names.get(name) {
+            out.insert(module.clone());
+        }
+    };
+    let prefixes: &[&str] = if top {
+        &["crate::", "super::"]
+    } else {
+        &["crate::"]
+    };
+    for line in text.lines() {
+        let code = line.split("//").next().unwrap_or("");
+        for prefix in prefixes {
+            let mut rest = code;
+            while let Some(at) = rest.find(prefix) {
+                let after = &rest[at + prefix.len()..];
+                let name: String = after
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                resolve(&name, &mut out);
+                // `use crate::{a, b::c}` groups.
+                if let Some(group) = after.strip_prefix('{') {
+                    let group = group.split('}').next().unwrap_or("");
+                    for part in group.split(',') {
+                        resolve(part.trim().split("::").next().unwrap_or(""), &mut out);
+                    }
+                }
+                rest = after;
+            }
+        }
+    }
+    out
+}
+
+/// The import graph of the crate whose sources are in `src`.
+fn graph_of(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let files = sources(src);
+    let modules: BTreeSet<String> = files.iter().filter_map(|p| module_of(src, p)).collect();
+    let root = ["lib.rs", "main.rs"]
+        .iter()
+        .find_map(|r| fs::read_to_string(src.join(r)).ok())
+        .unwrap_or_default();
+    let names = reexports(&root, &modules);
     let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     for path in &files {
-        let Some(module) = module_of(path) else {
+        let Some(module) = module_of(src, path) else {
             continue;
         };
         let text = fs::read_to_string(path).unwrap();
         let entry = edges.entry(module.clone()).or_default();
-        for target in imports(&production(path, &text), &modules) {
+        let found = imports(
+            &production(path, &text),
+            &modules,
+            &names,
+            top_level(src, path),
+        );
+        for target in found {
             if target != module {
                 entry.insert(target);
             }
@@ -100,7 +176,10 @@ fn graph() -> BTreeMap<String, BTreeSet<String>> {
     edges
 }
 
-/// A circle through `edges`, if there is one, as the modules along it.
+fn graph() -> BTreeMap<String, BTreeSet<String>> {
+    graph_of(&core())
+}
+
 fn find_circle(edges: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     fn visit(
         node: &str,
@@ -152,6 +231,38 @@ fn the_core_has_no_import_circle() {
 }
 
 #[test]
+fn no_crate_in_the_workspace_has_an_import_circle() {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut checked = 0;
+    for entry in fs::read_dir(&crates).unwrap() {
+        let src = entry.unwrap().path().join("src");
+        if !src.is_dir() {
+            continue;
+        }
+        let edges = graph_of(&src);
+        if let Some(circle) = find_circle(&edges) {
+            panic!("{}: import circle: {}", src.display(), circle.join(" -> "));
+        }
+        checked += 1;
+    }
+    assert!(checked >= 7, "only {checked} crates found");
+}
+
+#[test]
+fn a_name_the_root_reexports_counts_as_an_import_of_its_module() {
+    let modules: BTreeSet<String> = ["geometry", "sum"].map(String::from).into();
+    let names = reexports(
+        "pub use geometry::{Geometry, WallImpulse as Walls};",
+        &modules,
+    );
+    assert_eq!(names.get("Walls").map(String::as_str), Some("geometry"));
+    let found = imports("fn f() -> crate::Walls {}", &modules, &names, false);
+    assert_eq!(found, ["geometry".to_string()].into());
+    let found = imports("use super::sum::ExactSum;", &modules, &names, true);
+    assert_eq!(found, ["sum".to_string()].into());
+}
+
+#[test]
 fn the_layers_run_one_way() {
     let edges = graph();
     // Plain data and numerics at the bottom, the law above them, the world above the stages.
@@ -176,7 +287,7 @@ fn the_layers_run_one_way() {
 
 #[test]
 fn no_core_file_is_over_the_size_of_one_idea() {
-    for path in sources() {
+    for path in sources(&core()) {
         let text = fs::read_to_string(&path).unwrap();
         let lines = production(&path, &text).lines().count();
         assert!(

@@ -79,7 +79,7 @@ impl GsdWriter {
     }
 
     /// Appends ``world``'s current state as a frame.
-    fn write(&mut self, world: PyRef<'_, crate::world::World>) -> PyResult<()> {
+    fn write(&mut self, world: PyRef<'_, super::World>) -> PyResult<()> {
         self.frame(&world.get(), &world.types, &world.typeid)
     }
 

@@ -1,6 +1,9 @@
 //! `bounce.World`: the Rust [`bounce::World`] with NumPy arrays in and out, stepping without
 //! the GIL, and the zero-copy storage view.
 
+mod gsd;
+pub(crate) use gsd::GsdWriter;
+
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -17,7 +20,6 @@ use crate::obstacle::Obstacle;
 
 use crate::config::Config;
 use crate::events::Recorded;
-use crate::gsd::GsdWriter;
 use crate::query::Queries;
 
 /// A world of discs: the simulation.
@@ -47,6 +49,8 @@ pub struct World {
     events: Recorded,
     /// The momentum each obstacle has received over every step this object took.
     obstacle_impulses_total: Vec<[f64; 2]>,
+    /// Each emitter's colour and type: the discs it adds get its type in `typeid`.
+    emitted: Vec<(Option<bounce_scenario::Rgb>, u32)>,
 }
 
 /// The message of a world error, as Python's `ValueError`.
@@ -133,7 +137,12 @@ fn shape_text(shape: &[usize]) -> String {
 }
 
 impl World {
-    fn wrap(world: RustWorld, dt: Option<f64>, types: Vec<String>, typeid: Vec<u32>) -> World {
+    fn wrap(
+        world: RustWorld,
+        dt: Option<f64>,
+        (types, typeid): (Vec<String>, Vec<u32>),
+        emitted: Vec<(Option<bounce_scenario::Rgb>, u32)>,
+    ) -> World {
         World {
             world: Mutex::new(world),
             dt,
@@ -143,6 +152,7 @@ impl World {
             writers: Vec::new(),
             events: Recorded::default(),
             obstacle_impulses_total: Vec::new(),
+            emitted,
         }
     }
 
@@ -201,7 +211,12 @@ impl World {
                 "dt = {dt}: must be finite and > 0"
             )));
         }
-        Ok(World::wrap(world, dt, vec!["A".into()], Vec::new()))
+        Ok(World::wrap(
+            world,
+            dt,
+            (vec!["A".into()], Vec::new()),
+            Vec::new(),
+        ))
     }
 
     /// The world a scenario file describes (the TOML the ``bounce`` command runs), discs
@@ -222,8 +237,8 @@ impl World {
         Ok(World::wrap(
             world,
             Some(session.dt),
-            session.types,
-            session.typeid,
+            (session.types, session.typeid),
+            session.emitted,
         ))
     }
 
@@ -240,7 +255,12 @@ impl World {
         let checkpoint = bounce_scenario::checkpoint::load(&path).map_err(value_error)?;
         let mut world = checkpoint.world;
         world.set_threads(threads).map_err(value_error)?;
-        Ok(World::wrap(world, dt, vec!["A".into()], Vec::new()))
+        Ok(World::wrap(
+            world,
+            dt,
+            (vec!["A".into()], Vec::new()),
+            Vec::new(),
+        ))
     }
 
     /// Writes a checkpoint (the format ``bounce run --resume`` reads), atomically.
@@ -489,6 +509,8 @@ impl World {
             if world.config().contact_events {
                 self.events.add(world, dt);
             }
+            // Discs the emitters added take their emitter's type (in GSD files).
+            bounce_scenario::note_emitted(world, &self.emitted, None, &mut self.typeid);
             let impulses = world.obstacle_impulses();
             let totals = &mut self.obstacle_impulses_total;
             totals.resize(impulses.len(), [0.0; 2]);
