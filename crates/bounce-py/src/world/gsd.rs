@@ -46,6 +46,10 @@ impl GsdWriter {
             )?);
         }
         let file = self.file.as_mut().expect("opened above");
+        // Discs added since (by emitters) have their types by now.
+        for (id, &t) in typeid.iter().enumerate() {
+            file.set_type(id, t);
+        }
         Ok(file.frame(world)?)
     }
 }
