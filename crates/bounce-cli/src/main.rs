@@ -141,6 +141,10 @@ enum Command {
         /// WORKSPACE/workflow.toml (the same for glotzerlab's row) instead of running.
         #[arg(long)]
         slurm: bool,
+        /// The most jobs the sweep may make; a larger product of lists is refused with its
+        /// count.
+        #[arg(long, value_name = "N", default_value_t = sweep::DEFAULT_MAX_JOBS)]
+        max_jobs: u64,
     },
     /// Validate a scenario file and report every problem with its line.
     Check {
@@ -174,7 +178,7 @@ impl Steer {
     /// The scenario's text with the overrides applied, its name, and the limits.
     fn apply(&self, scenario: &Path) -> Result<(String, String, bounce_scenario::Limits)> {
         let origin = scenario.display().to_string();
-        let text = std::fs::read_to_string(scenario)
+        let text = bounce_scenario::files::read_to_string(scenario)
             .with_context(|| format!("{origin}: cannot read the file"))?;
         let text = bounce_scenario::overrides::apply(&text, &self.sets, self.seed)
             .map_err(|e| anyhow!("{origin}: {e}"))?;
@@ -378,6 +382,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
             task_id,
             job,
             slurm,
+            max_jobs,
         } => {
             sweep::sweep(&sweep::Request {
                 sweep: &sweep,
@@ -386,6 +391,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
                 task_id,
                 job,
                 slurm,
+                max_jobs,
             })?;
             Ok(ExitCode::SUCCESS)
         }

@@ -216,7 +216,13 @@ pub struct Request<'a> {
     /// Run the job whose id (its directory's name) this is: what `row` passes.
     pub job: Option<String>,
     pub slurm: bool,
+    /// The most jobs the sweep may make (`--max-jobs`): a product of lists grows fast, and
+    /// each job is a folder and a run.
+    pub max_jobs: u64,
 }
+
+/// The jobs a sweep makes unless `--max-jobs` says more.
+pub const DEFAULT_MAX_JOBS: u64 = 10_000;
 
 /// The sweep's scenario and jobs.
 struct Sweep {
@@ -225,10 +231,10 @@ struct Sweep {
     jobs: Vec<Job>,
 }
 
-fn read(path: &Path) -> Result<Sweep> {
+fn read(path: &Path, max_jobs: u64) -> Result<Sweep> {
     let name = path.display();
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read the file"))?;
+    let text = bounce_scenario::files::read_to_string(path)
+        .with_context(|| format!("{name}: cannot read the file"))?;
     let file: SweepFile = toml::from_str(&text).map_err(|e| anyhow!("{name}: {e}"))?;
     if file.parameters.is_empty() {
         bail!("{name}: [parameters] lists no key to sweep");
@@ -243,6 +249,21 @@ fn read(path: &Path) -> Result<Sweep> {
     }
     if file.seeds == Some(0) {
         bail!("{name}: seeds = 0: must be at least 1 (or left out)");
+    }
+    // The product is counted before anything is made of it.
+    let count = file
+        .parameters
+        .values()
+        .try_fold(file.seeds.unwrap_or(1), |n, values| {
+            n.checked_mul(values.len() as u64)
+        });
+    match count {
+        Some(n) if n <= max_jobs => {}
+        Some(n) => bail!(
+            "{name}: the sweep makes {n} jobs (the product of its lists and seeds), over the \
+             limit of {max_jobs}: raise it with --max-jobs {n} to run them all"
+        ),
+        None => bail!("{name}: the sweep's product of lists and seeds overflows a count"),
     }
     let scenario = path.parent().unwrap_or(Path::new(".")).join(&file.scenario);
     let mut jobs = vec![Job {
@@ -287,7 +308,7 @@ fn write_file(path: &Path, text: &str) -> Result<()> {
 
 /// Runs (or schedules) the sweep.
 pub fn sweep(request: &Request) -> Result<()> {
-    let sweep = read(request.sweep)?;
+    let sweep = read(request.sweep, request.max_jobs)?;
     let out = request.out;
     let workspace = out.join("workspace");
     std::fs::create_dir_all(&workspace)
@@ -472,6 +493,12 @@ fn csv_value(value: &toml::Value) -> String {
 fn write_slurm(request: &Request, jobs: usize) -> Result<()> {
     let absolute = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
     let exe = std::env::current_exe().context("cannot find the bounce command")?;
+    // Each task reads the sweep again: a raised limit travels with it.
+    let limit = if request.max_jobs == DEFAULT_MAX_JOBS {
+        String::new()
+    } else {
+        format!(" --max-jobs {}", request.max_jobs)
+    };
     let script = format!(
         "#!/bin/bash\n\
          # A bounce sweep as a Slurm job array: task K runs job K of {sweep}.\n\
@@ -482,7 +509,7 @@ fn write_slurm(request: &Request, jobs: usize) -> Result<()> {
          #SBATCH --cpus-per-task=1\n\
          #SBATCH --output={out}/slurm-%A_%a.out\n\
          \n\
-         {exe} sweep {sweep} --out {out} --task-id $SLURM_ARRAY_TASK_ID\n",
+         {exe} sweep {sweep} --out {out}{limit} --task-id $SLURM_ARRAY_TASK_ID\n",
         sweep = absolute(request.sweep).display(),
         out = absolute(request.out).display(),
         last = jobs - 1,
@@ -499,7 +526,7 @@ fn write_slurm(request: &Request, jobs: usize) -> Result<()> {
          \n\
          [[action]]\n\
          name = \"run\"\n\
-         command = \"{exe} sweep {sweep} --out {out} --job {{directory}}\"\n\
+         command = \"{exe} sweep {sweep} --out {out}{limit} --job {{directory}}\"\n\
          products = [\"bounce_done\"]\n\
          # One directory a submission: the command runs one job ({{directory}}).\n\
          group.maximum_size = 1\n\

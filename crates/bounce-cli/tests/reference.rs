@@ -345,7 +345,10 @@ fn the_outputs_page_lists_every_column_a_run_writes() {
 fn help_flags(args: &[&str]) -> BTreeSet<String> {
     let (code, help, err) = output(bounce().args(args).arg("--help"));
     assert_eq!(code, 0, "{err}");
+    // Option lines are indented a few spaces; a wrapped description's lines many more.
+    let indent = |l: &str| l.len() - l.trim_start().len();
     help.lines()
+        .filter(|l| indent(l) <= 10)
         .map(str::trim_start)
         .filter(|l| l.starts_with('-'))
         .filter_map(|l| l.split_whitespace().take(2).find(|w| w.starts_with("--")))
@@ -366,6 +369,8 @@ fn the_command_page_lists_every_command_and_flag_that_help_does() {
         .skip_while(|l| !l.starts_with("Commands:"))
         .skip(1)
         .take_while(|l| l.starts_with("  "))
+        // A command's line is indented two spaces; its wrapped description's lines more.
+        .filter(|l| !l[2..].starts_with(' '))
         .filter_map(|l| l.split_whitespace().next())
         .filter(|c| *c != "help")
         .map(str::to_string)

@@ -94,7 +94,8 @@ def flags_of(bounce_bin, command):
     if command not in HELP:
         done = subprocess.run([bounce_bin, command, "--help"], capture_output=True, text=True)
         assert done.returncode == 0, f"`bounce {command}` is no command: {done.stderr}"
-        HELP[command] = set(re.findall(r"(?m)^\s+(?:-\w, )?(--[\w-]+)", done.stdout))
+        # Option lines are indented a few spaces; a wrapped description's lines many more.
+        HELP[command] = set(re.findall(r"(?m)^ {1,10}(?:-\w, )?(--[\w-]+)", done.stdout))
     return HELP[command]
 
 

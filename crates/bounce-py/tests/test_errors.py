@@ -111,3 +111,13 @@ def test_files_that_are_missing_or_wrong_are_named(tmp_path):
         bounce.World.load(junk)
     with pytest.raises(ValueError, match="every = 0"):
         bounce.GSDWriter(tmp_path / "t.gsd", every=0)
+
+
+def test_a_profile_of_a_trillion_bins_is_refused_not_an_abort():
+    """Issue 60: `profiles(axis, 10**12)` aborted the interpreter allocating its bins; the
+    command line's limit holds for Python too."""
+    world = bounce.World(bounce.Config(boundary="walls", min=(0, 0), max=(10, 10)), dt=0.01)
+    world.add_discs([[5, 5]], [[1, 0]], 0.5)
+    with pytest.raises(ValueError, match=r"bins = 1000000000000: a profile has 1 to 100000 bins"):
+        world.profiles("y", 10**12)
+    assert len(world.profiles("y", 4)["count"]) == 4

@@ -63,6 +63,7 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Starts writing a file that will become `target`.
     pub fn create(target: &Path) -> io::Result<Self> {
+        crate::files::writable(target)?;
         let dir = target
             .parent()
             .filter(|d| !d.as_os_str().is_empty())

@@ -371,7 +371,7 @@ pub fn save(world: &World, run: Option<&RunState>, path: &std::path::Path) -> Re
 
 /// Reads a checkpoint written by [`save`]; every problem names the file.
 pub fn load(path: &std::path::Path) -> Result<Checkpoint, String> {
-    let bytes = std::fs::read(path)
+    let bytes = crate::files::read(path)
         .map_err(|e| format!("cannot read checkpoint {}: {e}", path.display()))?;
     decode(&bytes, &path.display().to_string())
 }

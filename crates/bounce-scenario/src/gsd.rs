@@ -586,8 +586,12 @@ pub(crate) fn floats(
             ));
         }
     };
-    let bytes = read_at(file, chunk.location, n * chunk.m as u64 * width)
-        .map_err(|e| format!("{name}: {e}"))?;
+    let bytes = read_at(
+        file,
+        chunk.location,
+        n.saturating_mul(chunk.m as u64).saturating_mul(width),
+    )
+    .map_err(|e| format!("{name}: {e}"))?;
     let row = chunk.m as usize * width as usize;
     let mut out = Vec::with_capacity(n as usize * m as usize);
     for r in bytes.chunks_exact(row) {

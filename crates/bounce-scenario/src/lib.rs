@@ -25,6 +25,7 @@ pub mod atomic;
 pub mod checkpoint;
 mod colour;
 mod diagnose;
+pub mod files;
 pub mod observables;
 pub mod obstacles;
 pub use obstacles::{ObstacleGroup, ObstacleSpec};
@@ -780,7 +781,7 @@ pub struct Built {
 /// Reads and validates a scenario file.
 pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     let file = path.display().to_string();
-    let source = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+    let source = files::read_to_string(path).map_err(|e| ScenarioError {
         file: file.clone(),
         problems: vec![Problem {
             line: None,
@@ -1243,12 +1244,13 @@ impl Scenario {
                      world"
                         .into(),
                 );
-            } else if !(1..=100_000).contains(&profile.bins) {
+            } else if !(1..=observables::MAX_PROFILE_BINS).contains(&profile.bins) {
                 at(
                     line_of_key(source, "output", "profile"),
                     format!(
-                        "output.profile.bins = {}: must be in 1..=100000",
-                        profile.bins
+                        "output.profile.bins = {}: must be in 1..={}",
+                        profile.bins,
+                        observables::MAX_PROFILE_BINS
                     ),
                 );
             }

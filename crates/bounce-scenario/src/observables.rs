@@ -35,6 +35,9 @@ pub struct Profile {
     pub temperature: Vec<f64>,
 }
 
+/// The most bins a profile has: each is a row of `profile.csv` at every stats row.
+pub const MAX_PROFILE_BINS: usize = 100_000;
+
 /// The profile of `world` along `axis` in `bins` equal bins across its box (a disc on the
 /// top edge goes into the last bin). Refused in an open world, which has no box.
 ///
@@ -55,8 +58,10 @@ pub fn profile(world: &World, axis: Axis, bins: usize) -> Result<Profile, String
     let Some((min, max)) = world.config().boundary.bounds() else {
         return Err("a profile needs a box (walls or periodic), not an open world".into());
     };
-    if bins == 0 {
-        return Err("a profile needs at least 1 bin".into());
+    if !(1..=MAX_PROFILE_BINS).contains(&bins) {
+        return Err(format!(
+            "bins = {bins}: a profile has 1 to {MAX_PROFILE_BINS} bins"
+        ));
     }
     let a = match axis {
         Axis::X => 0,

@@ -106,7 +106,7 @@ impl Session {
     /// A session from a scenario file.
     pub fn load(path: &Path) -> Result<Session, ScenarioError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+        let text = crate::files::read_to_string(path).map_err(|e| ScenarioError {
             file: origin.clone(),
             problems: vec![Problem {
                 line: None,

@@ -87,11 +87,11 @@ pub fn count(path: &Path, frame: i64) -> Option<u64> {
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
     {
         use std::io::BufRead;
-        let file = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+        let file = std::io::BufReader::new(crate::files::open(path).ok()?);
         let rows = file.split(b'\n').filter(|l| l.is_ok()).count() as u64;
         return Some(rows.saturating_sub(1));
     }
-    let mut file = std::fs::File::open(path).ok()?;
+    let mut file = crate::files::open(path).ok()?;
     let (names, entries) = read_layout(&mut file).ok()?;
     let chosen = choose_frame(&entries, frame).ok()?;
     let chunk = find(&names, &entries, "particles/N", chosen)?;
@@ -120,7 +120,7 @@ pub(crate) fn choose_frame(entries: &[RawEntry], frame: i64) -> Result<u64, Stri
 }
 
 fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> {
-    let mut file = std::fs::File::open(path).map_err(|e| format!("cannot read it: {e}"))?;
+    let mut file = crate::files::open(path).map_err(|e| format!("cannot read it: {e}"))?;
     let (names, entries) = read_layout(&mut file).map_err(|e| format!("not a GSD 2 file: {e}"))?;
     let at = choose_frame(&entries, frame)?;
     let chunk = |name: &str| find(&names, &entries, name, at);
@@ -213,8 +213,8 @@ fn read_gsd(path: &Path, frame: i64, world: Frame) -> Result<FileDiscs, String> 
     };
     let types = match chunk("particles/types") {
         Some(c) if c.kind == 5 || c.kind == 1 => {
-            let bytes =
-                read_at(&mut file, c.location, c.n * c.m as u64).map_err(|e| e.to_string())?;
+            let bytes = read_at(&mut file, c.location, c.n.saturating_mul(c.m as u64))
+                .map_err(|e| e.to_string())?;
             bytes
                 .chunks_exact(c.m.max(1) as usize)
                 .map(|row| {
@@ -273,10 +273,10 @@ const CSV_COLUMNS: [&str; 8] = [
 ];
 
 fn read_csv(path: &Path) -> Result<FileDiscs, String> {
+    let file = crate::files::open(path).map_err(|e| format!("cannot read it: {e}"))?;
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| format!("cannot read it: {e}"))?;
+        .from_reader(std::io::BufReader::new(file));
     let header = reader.headers().map_err(|e| e.to_string())?.clone();
     let mut column = [None; CSV_COLUMNS.len()];
     for (k, name) in header.iter().enumerate() {

@@ -554,11 +554,14 @@ pub fn msd(frames: &[Snapshot]) -> Result<(Vec<u64>, Vec<f64>), String> {
                 f.position.len()
             ));
         }
-        if f.step != first.step + k as u64 * spacing {
+        let expected = (k as u64)
+            .checked_mul(spacing)
+            .and_then(|d| first.step.checked_add(d));
+        if expected != Some(f.step) {
             return Err(format!(
-                "the MSD needs evenly spaced frames: frame {k} is at step {}, not {}",
+                "the MSD needs evenly spaced frames: frame {k} is at step {}, frame 1 at {}",
                 f.step,
-                first.step + k as u64 * spacing
+                first.step.wrapping_add(spacing)
             ));
         }
     }

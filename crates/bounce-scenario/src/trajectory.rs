@@ -31,12 +31,25 @@ impl Trajectory {
     pub fn open(path: &Path) -> Result<Trajectory, String> {
         let name = path.display().to_string();
         let mut file =
-            std::fs::File::open(path).map_err(|e| format!("{name}: cannot read it: {e}"))?;
+            crate::files::open(path).map_err(|e| format!("{name}: cannot read it: {e}"))?;
         let (names, entries) =
             read_layout(&mut file).map_err(|e| format!("{name}: not a GSD 2 file: {e}"))?;
         let frames = entries.iter().map(|e| e.frame + 1).max().unwrap_or(0);
         if frames == 0 {
             return Err(format!("{name}: the file holds no frame"));
+        }
+        // Frames are numbered without gaps: an index naming frame 10⁹ in a small file is
+        // damaged, not a billion frames to read.
+        let mut numbers: Vec<u64> = entries.iter().map(|e| e.frame).collect();
+        numbers.sort_unstable();
+        numbers.dedup();
+        if numbers.len() as u64 != frames {
+            return Err(format!(
+                "{name}: its index names frame {} but holds chunks of {} frames: the file is \
+                 damaged",
+                frames - 1,
+                numbers.len()
+            ));
         }
         let mut trajectory = Trajectory {
             file,
@@ -119,17 +132,31 @@ impl Trajectory {
         let (names, entries) = (&self.names, &self.entries);
         let chunk = |name: &str| find(names, entries, name, frame);
         let whole = |file: &mut std::fs::File, c: &RawEntry, size: u64| {
-            read_at(file, c.location, c.n * c.m as u64 * size).map_err(|e| e.to_string())
+            read_at(
+                file,
+                c.location,
+                c.n.saturating_mul(c.m as u64).saturating_mul(size),
+            )
+            .map_err(|e| e.to_string())
+        };
+        // A chunk of no values (an index entry with N = 0) has no first value to read.
+        let first = |bytes: Vec<u8>, size: usize, name: &str| -> Result<Vec<u8>, String> {
+            if bytes.len() < size {
+                return Err(format!("{name} holds no value"));
+            }
+            Ok(bytes[..size].to_vec())
         };
         let step = match chunk("configuration/step") {
             Some(c) if c.kind == 4 => {
-                u64::from_le_bytes(whole(file, c, 8)?[..8].try_into().expect("8"))
+                let bytes = first(whole(file, c, 8)?, 8, "configuration/step")?;
+                u64::from_le_bytes(bytes.try_into().expect("8"))
             }
             _ => 0,
         };
         let n = match chunk("particles/N") {
             Some(c) if c.kind == 3 => {
-                u32::from_le_bytes(whole(file, c, 4)?[..4].try_into().expect("4")) as u64
+                let bytes = first(whole(file, c, 4)?, 4, "particles/N")?;
+                u32::from_le_bytes(bytes.try_into().expect("4")) as u64
             }
             _ => 0,
         };

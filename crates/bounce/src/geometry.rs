@@ -350,12 +350,13 @@ impl Particle {
     pub fn validate(&self, config: &Config) -> Result<(), ParticleError> {
         self.validate_values()?;
         let law = Law::new(config);
-        self.check_energy(&law)?;
+        self.check_energy(&law, config.inertia_factor)?;
         Geometry::new(config).admit(self.position, self.radius, &law)
     }
 
-    /// Checks that the kinetic energy under the law's mass model is finite.
-    pub(crate) fn check_energy(&self, law: &Law) -> Result<(), ParticleError> {
+    /// Checks that the kinetic energy under the law's mass model is finite, and the energy of
+    /// its spin, `½ I ω²` with `I = inertia_factor m r²`.
+    pub(crate) fn check_energy(&self, law: &Law, inertia_factor: f64) -> Result<(), ParticleError> {
         let mass = law.mass(
             self.radius,
             self.mass
@@ -366,6 +367,14 @@ impl Particle {
             return Err(ParticleError::EnergyOverflow {
                 velocity: self.velocity,
                 mass,
+            });
+        }
+        let inertia = inertia_factor * mass * self.radius * self.radius;
+        let w = self.angular_velocity;
+        if w != 0.0 && !(0.5 * inertia * w * w).is_finite() {
+            return Err(ParticleError::SpinEnergyOverflow {
+                angular_velocity: w,
+                inertia,
             });
         }
         Ok(())

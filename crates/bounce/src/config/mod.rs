@@ -284,6 +284,13 @@ impl Config {
                     format!("min {min:?}, max {max:?}"),
                     "min must be below max on both axes",
                 );
+            } else if !((max[0] - min[0]) * (max[1] - min[1])).is_normal() {
+                // The pressure divides by the area: it must be a finite, non-vanishing number.
+                err(
+                    "boundary",
+                    format!("min {min:?}, max {max:?}"),
+                    "the box's area must be a finite number of at least 1e-308",
+                );
             }
         }
         if let Boundary::Walls {

@@ -190,6 +190,17 @@ pub enum ParticleError {
         /// The disc's mass under the mass model.
         mass: f64,
     },
+    /// The disc's rotational energy `½ I ω²` overflows `f64`.
+    #[error(
+        "angular velocity {angular_velocity} gives a rotational energy beyond f64 (moment of \
+         inertia {inertia})"
+    )]
+    SpinEnergyOverflow {
+        /// The refused angular velocity.
+        angular_velocity: f64,
+        /// The disc's moment of inertia.
+        inertia: f64,
+    },
     /// A whole-world setter was given the wrong number of values.
     #[error("{given} values for {expected} particles")]
     WrongCount {

@@ -154,7 +154,7 @@ impl TryFrom<WorldState> for World {
                 .validate_values()
                 .and_then(|()| geometry.fits_size(particle.radius, &law))
                 .and_then(|()| geometry.holds(particle.position, slack))
-                .and_then(|()| particle.check_energy(&law))
+                .and_then(|()| particle.check_energy(&law, world.config.inertia_factor))
                 .map_err(|error| WorldError::Particle { id, error })?;
         }
         // Every step advances the clock by a finite `dt > 0`.
