@@ -12,6 +12,7 @@
 use serde::Deserialize;
 
 use crate::analysis::{self, henderson_z};
+use crate::json::string as json_string;
 use crate::structure::Snapshot;
 use crate::{ObstacleSpec, Scenario};
 use bounce::World;
@@ -245,21 +246,6 @@ fn snake(name: &str) -> String {
         }
         out.push(c.to_ascii_lowercase());
     }
-    out
-}
-
-fn json_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
     out
 }
 

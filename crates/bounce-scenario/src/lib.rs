@@ -32,6 +32,7 @@ pub use obstacles::{ObstacleGroup, ObstacleSpec};
 #[cfg(not(target_arch = "wasm32"))]
 pub mod gsd;
 pub mod headline;
+pub mod json;
 pub mod palette;
 mod session;
 #[cfg(not(target_arch = "wasm32"))]
