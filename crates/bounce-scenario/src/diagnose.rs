@@ -87,7 +87,7 @@ fn go_past(text: &str, line: usize, e: &toml::de::Error) -> Option<String> {
         match toml::from_str::<Scenario>(&edited) {
             Ok(_) => Some(edited),
             Err(next) => {
-                let at = next.span().map(|s| crate::line_at(&edited, s.start));
+                let at = next.span().map(|s| crate::lines::line_at(&edited, s.start));
                 let past = at != Some(line) && next.message() != message;
                 (past && !next.message().contains(&missing)).then_some(edited)
             }
@@ -149,8 +149,8 @@ fn located(source: &str, e: &toml::de::Error) -> Problem {
     };
     match e.span() {
         Some(span) => {
-            let line = crate::line_at(source, span.start);
-            match crate::field_at(source, line) {
+            let line = crate::lines::line_at(source, span.start);
+            match crate::lines::field_at(source, line) {
                 Some(field) if !message.contains(&field) => Problem {
                     line: Some(line),
                     message: format!("`{field}`: {message}"),

@@ -9,48 +9,13 @@
 //! means of ten blocks: samples a few collision times apart are correlated, blocks of many
 //! rows are not.
 
-use serde::Deserialize;
-
 use crate::analysis::{self, henderson_z};
 use crate::json::string as json_string;
 use crate::structure::Snapshot;
 use crate::{ObstacleSpec, Scenario};
 use bounce::World;
 
-/// What a run's headline measures.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum HeadlineKind {
-    /// The final speeds against 2D Maxwell–Boltzmann: the Kolmogorov–Smirnov distance.
-    MaxwellBoltzmann,
-    /// `Z = P A / (N kT)` against Monte Carlo (or Henderson's equation of state).
-    Compressibility,
-    /// The shear viscosity `−⟨P_xy⟩ / γ̇` against Enskog's (needs `pressure_tensor`).
-    Viscosity,
-    /// A heap's angle of repose: both flanks.
-    ReposeAngle,
-    /// A Galton board's heap against the binomial of independent balls.
-    GaltonSpread,
-    /// The discharge rate through a neck (the first sensor's entries), steady as Beverloo's
-    /// law says.
-    Discharge,
-    /// A piston's gas heating along the hard-disc adiabat.
-    Adiabat,
-    /// A chamber emptying through a hole, against the effusion rate.
-    Effusion,
-    /// A driven granular gas's temperature against van Noije and Ernst's.
-    GranularTemperature,
-    /// The largest disc's diffusion coefficient (needs a GSD trajectory).
-    Diffusion,
-    /// Newton's cradle: the last disc's velocity after the blow.
-    Cradle,
-    /// How mixed two kinds of disc are.
-    Mixing,
-    /// A pile's packing fraction and largest overlap.
-    Packing,
-    /// Disc-steps per second of the physics.
-    Throughput,
-}
+pub use crate::schema::HeadlineKind;
 
 /// A measured headline.
 #[derive(Clone, Debug, PartialEq)]

@@ -75,7 +75,7 @@ impl Session {
         limits: &Limits,
         dir: Option<&Path>,
     ) -> Result<Session, ScenarioError> {
-        let (scenario, built) = crate::read_and_build(text, origin, limits, dir)?;
+        let (scenario, built) = crate::build::read_and_build(text, origin, limits, dir)?;
         let colour_by = scenario
             .output
             .color_by
