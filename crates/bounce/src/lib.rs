@@ -104,7 +104,7 @@ mod config;
 mod contact_events;
 pub use contact_events::{ContactEvent, ContactKind, ContactLog, Party, WallSide};
 mod contacts;
-pub use contacts::{order_block_start, order_cell_width};
+pub use contacts::{order_block_start, order_cell_width, order_pass_reach};
 mod context;
 pub mod event;
 mod geometry;

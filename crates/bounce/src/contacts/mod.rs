@@ -41,7 +41,7 @@ use crate::law::touching;
 use detect::detect;
 use order::{BlockBounds, column_of, row_parity_of, wave_of};
 pub(crate) use order::{OrderGrid, ordered_bits};
-pub use order::{order_block_start, order_cell_width};
+pub use order::{order_block_start, order_cell_width, order_pass_reach};
 use presort::{
     DENSE_SHARE, DETECTIONS_BEFORE_PRESORT, LASTING_LISTING_USES, Presorted, place_by_bucket,
 };

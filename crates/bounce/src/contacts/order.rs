@@ -193,6 +193,24 @@ pub fn order_cell_width(config: &crate::Config, max_radius: f64) -> f64 {
     cell_width(&Law::new(config), max_radius)
 }
 
+/// Order-grid cells a chain of contacts can cross in one solver pass: 4 colour phases, each
+/// within one block and its ring (3 cells), plus the cell a disc sits in.
+const CELLS_PER_PASS: f64 = 13.0;
+
+/// How far one solver pass's chains of contacts can carry an effect, for discs up to
+/// `max_radius` under `config`: a disc's new state depends on no disc farther than this per
+/// pass (plus what the discs move), so a distributed run's ghost layers are at least this
+/// thick for every pass of every substep.
+///
+/// ```
+/// use bounce::{Config, order_cell_width, order_pass_reach};
+/// let config = Config::default();
+/// assert_eq!(order_pass_reach(&config, 0.5), 13.0 * order_cell_width(&config, 0.5));
+/// ```
+pub fn order_pass_reach(config: &crate::Config, max_radius: f64) -> f64 {
+    CELLS_PER_PASS * order_cell_width(config, max_radius)
+}
+
 /// Where the order block holding coordinate `v` along `axis` (0: x, 1: y) begins, for discs
 /// up to `max_radius` under `config`: a distributed run cuts its domains there, so each
 /// block's contacts are resolved and counted by one rank.
