@@ -6,9 +6,11 @@
 //! colliding pair through a plain grid, sorts the pairs into the canonical order and resolves
 //! them one after the other through the law, then meets the walls and the obstacles. It shares
 //! with the fast step only the rules themselves (the law, the geometry's walls and wrap, the
-//! obstacles' `collide` and `uncross`, the canonical order's key, the law applied to pairs
-//! one after another: `resolve::resolve_in_order`) and what surrounds the substeps
-//! (emitters, sinks, measurement).
+//! obstacles' `collide` and `uncross`, the canonical order's key) and what surrounds the
+//! substeps (emitters, sinks, measurement). Its pairs are resolved by its own loop, not by
+//! either of the fast step's solvers (the side-by-side kernel, or one contact at a time for
+//! contact reports, the pressure tensor, the collision counts and a Lees–Edwards box), so
+//! both are held to it.
 //!
 //! It is the reference: a property test (`tests/plain_step.rs`) steps random worlds with
 //! both and requires the same state bits, so a change to a kernel that moves one bit fails
@@ -28,10 +30,11 @@ use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
+use crate::law::{Body, is_impact};
 use crate::law::{Disc, Law, Rough, collide, reflect, resting_speed, rub_walls, touch_walls};
 use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
-use crate::resolve::resolve_in_order;
+use crate::resolve::{PairResolved, Resolved};
 use crate::stats::{StepProfile, StepStats, Stopwatch};
 use crate::sum::{ExactSum, StepSums, WallSums};
 use crate::world::{StepError, Substepped, World, add_tensor, note_impact, substep_end};
@@ -115,12 +118,12 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 stats.pairs += contacts.len();
                 stats.max_overlap = stats.max_overlap.max(max_overlap);
             }
-            let resolved = resolve_in_order(
+            let resolved = resolve_one_after_another(
                 p,
-                contacts.iter().map(|c| (c.a, c.b)),
+                &contacts,
                 &rules.law.for_pass(pass),
                 &rules.geometry,
-                (rules.resting_speed, None),
+                rules.resting_speed,
                 |p, pair| {
                     if config.pressure_tensor {
                         add_tensor(&mut tensor, pair);
@@ -490,4 +493,71 @@ fn meet_obstacles(
         }
     }
     impacts
+}
+
+/// The seed's steps 1–7 for each contact in the canonical order, one after the other on the
+/// current state (a disc pushed by one pair is seen at its new place by the next), walls held
+/// after each push; `each` sees every pair as resolved. Returns the collision virial, the
+/// impacts and the friction work.
+fn resolve_one_after_another(
+    p: &mut Particles,
+    contacts: &[Contact],
+    law: &Law,
+    geometry: &Geometry,
+    resting_speed: f64,
+    mut each: impl FnMut(&Particles, &PairResolved),
+) -> Resolved {
+    let min_image = geometry.min_image();
+    let rubs = law.rough.is_some_and(|rough| rough.rubs_pairs());
+    let mut resolved = Resolved::new();
+    for &Contact { a, b, .. } in contacts {
+        let body = |i: usize| Body {
+            velocity: [p.vx[i], p.vy[i]],
+            radius: p.radius[i],
+            mass: law.mass(p.radius[i], p.mass[i]),
+            angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
+        };
+        let before = [body(a), body(b)];
+        let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
+        let image_velocity = min_image.image_velocity(p.y[a], p.y[b]);
+        let out = law.resolve_seen(diff, &before[0], &before[1], image_velocity);
+        let at = [p.x[a], p.y[a]];
+        // The virial takes the pair's impulse: half of a's momentum change less half of b's.
+        let impulse = [0, 1].map(|k| {
+            0.5 * (before[0].mass * (out.v1[k] - before[0].velocity[k])
+                - before[1].mass * (out.v2[k] - before[1].velocity[k]))
+        });
+        resolved
+            .virial
+            .add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+        if is_impact(out.approach, resting_speed) {
+            resolved.impacts += 1;
+        }
+        if rubs {
+            resolved.friction.add(out.friction_work);
+        }
+        // Half the overlap each way, then back inside the walls.
+        for (i, sign) in [(a, 1.0), (b, -1.0)] {
+            p.x[i] += sign * out.push[0];
+            p.y[i] += sign * out.push[1];
+            let (mut x, mut y) = (p.x[i], p.y[i]);
+            geometry.hold(&mut x, &mut y, p.radius[i]);
+            (p.x[i], p.y[i]) = (x, y);
+        }
+        [p.vx[a], p.vy[a]] = out.v1;
+        [p.vx[b], p.vy[b]] = out.v2;
+        if rubs {
+            (p.omega[a], p.omega[b]) = (out.w1, out.w2);
+        }
+        let pair = PairResolved {
+            a,
+            b,
+            diff,
+            at,
+            before,
+            out,
+        };
+        each(p, &pair);
+    }
+    resolved
 }

@@ -42,7 +42,7 @@ pub(crate) struct Resolved {
 }
 
 impl Resolved {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Resolved {
             virial: ExactSum::new(),
             impacts: 0,
@@ -434,8 +434,9 @@ pub(crate) fn solver_order(contacts: &Contacts) -> Vec<(usize, usize)> {
 /// the current state (a disc pushed by one pair is seen at its new place by the next), with
 /// rough discs' friction; walls hold after each push. `each` sees every pair as resolved.
 /// Returns the collision virial, the impacts and the friction work of the pairs `tally`
-/// counts (by the lower-id disc's place), as [`resolve_all`] does: the plain step's solver,
-/// and the fast step's when it reports contacts.
+/// counts (by the lower-id disc's place), as [`resolve_all`] does: the fast step's solver when
+/// it reports contacts, measures the pressure tensor or counts collisions, and in a
+/// Lees–Edwards box (the plain step resolves with its own loop, so this one is held to it).
 pub(crate) fn resolve_in_order(
     p: &mut Particles,
     pairs: impl IntoIterator<Item = (usize, usize)>,
