@@ -10,6 +10,7 @@
 //! met alone instead of listing anew (strays). `MIN_WORK=N` in the environment sets the smallest work
 //! that runs on the pool (`World::set_parallel_min_work`); `RELIST=1` lists the candidates
 //! anew every step (`World::relist`), so the rebuild's own cost can be timed over many.
+//! `TENSOR=1` measures the pressure tensor and `COUNTS=1` counts each disc's collisions.
 
 use bounce::scene::Bench;
 use bounce::{Particle, StepProfile, World};
@@ -31,7 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "fast" => Bench::Fast,
         _ => Bench::Gas,
     };
-    let (config, mut discs) = scene.build(count)?;
+    let (mut config, mut discs) = scene.build(count)?;
+    // What a run may record besides the state: the pressure tensor and each disc's collisions.
+    config.pressure_tensor = std::env::var_os("TENSOR").is_some();
+    config.collision_counts = std::env::var_os("COUNTS").is_some();
     let mut warm_up = 4;
     if scene == Bench::Pile
         && let Some(path) = settled
