@@ -401,10 +401,7 @@ impl ContactLog {
             [-COINCIDENT_NORMAL[0], -COINCIDENT_NORMAL[1]]
         };
         let [one, two] = before;
-        let impulse = [0, 1].map(|k| {
-            0.5 * (one.mass * (out.v1[k] - one.velocity[k])
-                - two.mass * (out.v2[k] - two.velocity[k]))
-        });
+        let impulse = out.impulse(one, two);
         if self.tally.is_some_and(|t| !t.counts(at[0], at[1])) {
             return;
         }

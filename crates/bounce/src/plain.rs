@@ -30,14 +30,14 @@ use crate::config::ObstacleState;
 use crate::contacts::{OrderGrid, ordered_bits};
 use crate::geometry::{Geometry, wrap};
 use crate::integrate::turned;
-use crate::law::{Body, is_impact};
+use crate::law::{Body, is_impact, virial_terms};
 use crate::law::{Disc, Law, Rough, collide, reflect, resting_speed, rub_walls, touch_walls};
 use crate::obstacles::{self, Impact, Impacts, Met, uncross};
 use crate::particles::Particles;
-use crate::resolve::{PairResolved, Resolved};
+use crate::resolve::Resolved;
 use crate::stats::{StepProfile, StepStats, Stopwatch};
 use crate::sum::{ExactSum, StepSums, WallSums};
-use crate::world::{StepError, Substepped, World, add_tensor, note_impact, substep_end};
+use crate::world::{StepError, Substepped, World, substep_end};
 
 /// Advances `world` by `dt` as [`World::step`] does (the same substeps, the same bits of
 /// the state), the plain way. It reports no contact events ([`World::contact_events`] is
@@ -124,15 +124,12 @@ pub fn step(world: &mut World, dt: f64) -> Result<&StepStats, StepError> {
                 &rules.law.for_pass(pass),
                 &rules.geometry,
                 rules.resting_speed,
-                |p, pair| {
-                    if config.pressure_tensor {
-                        add_tensor(&mut tensor, pair);
-                    }
-                    if config.collision_counts && pass == 0 {
-                        note_impact(&mut collided, p, pair, rules.resting_speed);
-                    }
-                },
+                (config.pressure_tensor, config.collision_counts && pass == 0),
             );
+            for (sum, part) in tensor.iter_mut().zip(&resolved.tensor) {
+                sum.merge(part);
+            }
+            collided.extend_from_slice(&resolved.collided);
             sums.virial.merge(&resolved.virial);
             sums.friction.merge(&resolved.friction);
             if pass == 0 {
@@ -497,15 +494,15 @@ fn meet_obstacles(
 
 /// The seed's steps 1–7 for each contact in the canonical order, one after the other on the
 /// current state (a disc pushed by one pair is seen at its new place by the next), walls held
-/// after each push; `each` sees every pair as resolved. Returns the collision virial, the
-/// impacts and the friction work.
+/// after each push. Returns the collision virial, the impacts and the friction work, and with
+/// `(tensor, impacts)` the virial tensor's terms and the discs of each impact.
 fn resolve_one_after_another(
     p: &mut Particles,
     contacts: &[Contact],
     law: &Law,
     geometry: &Geometry,
     resting_speed: f64,
-    mut each: impl FnMut(&Particles, &PairResolved),
+    (tensor, impacts): (bool, bool),
 ) -> Resolved {
     let min_image = geometry.min_image();
     let rubs = law.rough.is_some_and(|rough| rough.rubs_pairs());
@@ -521,17 +518,20 @@ fn resolve_one_after_another(
         let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
         let image_velocity = min_image.image_velocity(p.y[a], p.y[b]);
         let out = law.resolve_seen(diff, &before[0], &before[1], image_velocity);
-        let at = [p.x[a], p.y[a]];
-        // The virial takes the pair's impulse: half of a's momentum change less half of b's.
-        let impulse = [0, 1].map(|k| {
-            0.5 * (before[0].mass * (out.v1[k] - before[0].velocity[k])
-                - before[1].mass * (out.v2[k] - before[1].velocity[k]))
-        });
-        resolved
-            .virial
-            .add(diff[0] * impulse[0] + diff[1] * impulse[1]);
+        // The virial takes the pair's impulse (the law's: half of a's momentum change less
+        // half of b's).
+        let (virial, terms) = virial_terms(diff, out.impulse(&before[0], &before[1]));
+        resolved.virial.add(virial);
+        if tensor {
+            for (sum, term) in resolved.tensor.iter_mut().zip(terms) {
+                sum.add(term);
+            }
+        }
         if is_impact(out.approach, resting_speed) {
             resolved.impacts += 1;
+            if impacts {
+                resolved.collided.extend([p.id[a].0, p.id[b].0]);
+            }
         }
         if rubs {
             resolved.friction.add(out.friction_work);
@@ -549,15 +549,6 @@ fn resolve_one_after_another(
         if rubs {
             (p.omega[a], p.omega[b]) = (out.w1, out.w2);
         }
-        let pair = PairResolved {
-            a,
-            b,
-            diff,
-            at,
-            before,
-            out,
-        };
-        each(p, &pair);
     }
     resolved
 }

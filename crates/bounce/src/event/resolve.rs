@@ -2,7 +2,7 @@
 //! turns its normal velocity back (scaled by the restitution), and two discs get the law's
 //! velocity update at contact, with the TC model's elastic law within the contact duration.
 
-use crate::law::{Body, Law, nearest, resolve_pair};
+use crate::law::{Body, Law, nearest, resolve_pair, virial_terms};
 
 use super::{EventDriven, sub};
 
@@ -108,15 +108,11 @@ impl EventDriven {
         let (one, two) = (body(a), body(b));
         let law = self.law_for(self.last[a].max(self.last[b]));
         let out = resolve_pair(diff, &one, &two, law);
-        let impulse = [0, 1].map(|k| {
-            0.5 * (one.mass * (out.v1[k] - one.velocity[k])
-                - two.mass * (out.v2[k] - two.velocity[k]))
-        });
-        self.observed.virial += diff[0] * impulse[0] + diff[1] * impulse[1];
-        let tensor = &mut self.observed.virial_tensor;
-        tensor[0] += diff[0] * impulse[0];
-        tensor[1] += diff[1] * impulse[1];
-        tensor[2] += 0.5 * (diff[0] * impulse[1] + diff[1] * impulse[0]);
+        let (virial, terms) = virial_terms(diff, out.impulse(&one, &two));
+        self.observed.virial += virial;
+        for (sum, term) in self.observed.virial_tensor.iter_mut().zip(terms) {
+            *sum += term;
+        }
         self.observed.collisions += 1;
         if self.count_collisions {
             let ids = [self.order[a], self.order[b]];

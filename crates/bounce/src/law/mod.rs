@@ -18,8 +18,8 @@ pub mod rough;
 mod wall;
 
 pub(crate) use obstacle::{Disc, collide, nearest, reach_of, touches};
-pub(crate) use pair::resolve_lanes;
 pub use pair::{Body, Resolution, resolve_pair};
+pub(crate) use pair::{pair_impulse, resolve_lanes, virial_terms};
 pub use rough::Rough;
 pub(crate) use wall::{hold, reflect, rub_walls, touch_walls};
 

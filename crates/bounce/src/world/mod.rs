@@ -45,7 +45,7 @@ mod tests;
 use access::IndexMap;
 use obstacles::initial_states;
 use state::{WorldState, serialize_reference};
-pub(crate) use step::{Substepped, add_tensor, note_impact, substep_end};
+pub(crate) use step::{Substepped, substep_end};
 
 /// A 2D world of discs. See the [crate docs](crate) for an example.
 ///

@@ -14,11 +14,11 @@ use crate::contact_events::ContactLog;
 use crate::contacts::Contacts;
 use crate::context::StepContext;
 use crate::integrate::{integrate, turn};
-use crate::law::is_impact;
+
 use crate::obstacles::{self, Met, Obstacles, Trail, resolve_obstacles, take_impacts};
 use crate::part::Travel;
 use crate::particles::Particles;
-use crate::resolve::{PairResolved, resolve_all, resolve_in_order, resolve_walls, solver_order};
+use crate::resolve::{Recording, resolve_all, resolve_in_order, resolve_walls, solver_order};
 use crate::stats::{Measured, StepProfile, StepStats, Stopwatch, measure};
 use crate::sum::{ExactSum, StepSums};
 
@@ -188,36 +188,6 @@ pub(crate) fn substep_end(start: f64, dt: f64, substeps: u32, k: u32) -> f64 {
         start + dt
     } else {
         start + f64::from(k + 1) * (dt / f64::from(substeps))
-    }
-}
-
-/// Adds a resolved pair's terms of the virial tensor to the step's sums:
-/// `[r_x J_x, r_y J_y, ½ (r_x J_y + r_y J_x)]`, `r` the separation `x_a − x_b` and `J` the
-/// pair's impulse on `a` (the antisymmetric part of the two momentum changes, as the
-/// virial counts it), so half their trace is the pair's `r · J`.
-pub(crate) fn add_tensor(sums: &mut [ExactSum; 3], pair: &PairResolved) {
-    let [one, two] = &pair.before;
-    let j = [0, 1].map(|k| {
-        0.5 * (one.mass * (pair.out.v1[k] - one.velocity[k])
-            - two.mass * (pair.out.v2[k] - two.velocity[k]))
-    });
-    let r = pair.diff;
-    let terms = [r[0] * j[0], r[1] * j[1], 0.5 * (r[0] * j[1] + r[1] * j[0])];
-    for (sum, term) in sums.iter_mut().zip(terms) {
-        sum.add(term);
-    }
-}
-
-/// Notes a resolved pair's two ids in `collided` when it met as an impact (what
-/// [`Config::collision_counts`] counts, as `StepStats::collisions` does).
-pub(crate) fn note_impact(
-    collided: &mut Vec<u32>,
-    p: &Particles,
-    pair: &PairResolved,
-    resting_speed: f64,
-) {
-    if is_impact(pair.out.approach, resting_speed) {
-        collided.extend([p.id[pair.a].0, p.id[pair.b].0]);
     }
 }
 
@@ -430,8 +400,10 @@ impl<'w> Stages<'w> {
             law: self.ctx.law.for_pass(pass),
             ..self.ctx
         };
-        let (tensor, counting) = (self.config.pressure_tensor, self.config.collision_counts);
-        let resting_speed = ctx.resting_speed;
+        let recording = Recording {
+            tensor: self.config.pressure_tensor,
+            impacts: self.config.collision_counts && pass == 0,
+        };
         // In a Lees–Edwards box a contact across the top and bottom meets its partner's
         // sliding image, whose velocity the side-by-side kernel does not carry: the contacts
         // are resolved one at a time in the canonical order, as the plain step does (the
@@ -445,30 +417,28 @@ impl<'w> Stages<'w> {
             false => solver_order(contacts),
         };
         let resolved = match self.log.as_deref_mut() {
-            None if !tensor && !counting && !sheared => {
-                resolve_all(self.contacts, self.particles, &ctx, uniform)
+            None if !sheared => {
+                resolve_all(self.contacts, self.particles, &ctx, uniform, recording)
             }
-            // One contact at a time, each reported or measured (the same bits:
-            // `solver_order`).
+            // One contact at a time, each reported (the same bits: `solver_order`).
             mut log => resolve_in_order(
                 self.particles,
                 order(self.contacts),
                 &ctx.law,
                 &ctx.geometry,
                 (ctx.resting_speed, ctx.tally),
+                recording,
                 |p, pair| {
                     if let Some(log) = log.as_deref_mut() {
                         log.see_pair(p, pair);
                     }
-                    if tensor {
-                        add_tensor(&mut done.tensor, pair);
-                    }
-                    if counting && pass == 0 {
-                        note_impact(&mut done.collided, p, pair, resting_speed);
-                    }
                 },
             ),
         };
+        for (sum, part) in done.tensor.iter_mut().zip(&resolved.tensor) {
+            sum.merge(part);
+        }
+        done.collided.extend_from_slice(&resolved.collided);
         done.sums.virial.merge(&resolved.virial);
         done.sums.friction.merge(&resolved.friction);
         if pass == 0 {

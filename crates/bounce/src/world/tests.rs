@@ -659,8 +659,39 @@ fn the_solver_lanes_give_the_bits_of_the_seed_loop() {
             );
             assert_eq!(bp.uniform_radius().is_some(), equal, "{case}");
             let mut lanes = world.particles.clone();
-            let resolved =
-                crate::resolve::resolve_all(&world.contacts, &mut lanes, &ctx, bp.uniform_radius());
+            let resolved = crate::resolve::resolve_all(
+                &world.contacts,
+                &mut lanes,
+                &ctx,
+                bp.uniform_radius(),
+                Default::default(),
+            );
+            // Recording the tensor and the impacts changes nothing else, and the tensor's
+            // trace is the virial.
+            let mut recorded = world.particles.clone();
+            let recording = crate::resolve::Recording {
+                tensor: true,
+                impacts: true,
+            };
+            let with = crate::resolve::resolve_all(
+                &world.contacts,
+                &mut recorded,
+                &ctx,
+                bp.uniform_radius(),
+                recording,
+            );
+            let trace = with.tensor[0].value() + with.tensor[1].value();
+            assert!(
+                (trace - with.virial.value()).abs() <= 1e-9 * trace.abs().max(1.0),
+                "{case}: trace {trace}, virial {}",
+                with.virial.value()
+            );
+            assert_eq!(with.collided.len(), 2 * with.impacts, "{case}");
+            assert_eq!(
+                with.virial.value().to_bits(),
+                resolved.virial.value().to_bits()
+            );
+            assert!(resolved.collided.is_empty() && resolved.tensor[0].value() == 0.0);
             let mut seed = world.particles.clone();
             let seed_virial = resolve_one_by_one(&world.contacts, &mut seed, &ctx);
             let bits = |p: &Particles| -> Vec<u64> {
@@ -670,6 +701,7 @@ fn the_solver_lanes_give_the_bits_of_the_seed_loop() {
                     .collect()
             };
             assert_eq!(bits(&lanes), bits(&seed), "{case}");
+            assert_eq!(bits(&recorded), bits(&seed), "{case}");
             assert_eq!(
                 resolved.virial.value().to_bits(),
                 seed_virial.to_bits(),

@@ -1,17 +1,5 @@
-//! Resolution: the law's pair resolution applied to every contact, in the canonical order.
-//!
-//! Pairs are resolved one after another on the current state (Gauss–Seidel style, as the
-//! seed's loop does): a disc pushed by one pair is seen at its new place by the next. The
-//! order is the wave order of `contacts` (the canonical order's bits in one sweep); the pieces
-//! of one phase touch disjoint discs, so they run in parallel and still give the serial
-//! result bit for bit.
-//!
-//! With more than one solver pass, walls are contacts too: after each pass's pairs,
-//! [`resolve_walls`] bounces every disc that touches a wall and moves into it. Without it
-//! only integration meets the walls, once per substep, and the floor can hold up a stack
-//! only by the bounce of its bottom row: in a momentum-conserving model the whole pile then
-//! sinks at a steady speed that the pushes undo (measured: mean vy ≈ -0.6 in the settled
-//! shipped pile under `relative_normal_velocity`, a kinetic energy near 150).
+//! The fast solver: a colour row's quarters (disjoint discs) side by side, one per lane, with
+//! the bits of one contact at a time; the pieces of a phase in parallel.
 
 use std::ops::Range;
 
@@ -22,40 +10,12 @@ use crate::geometry::Geometry;
 use crate::geometry::MinImage;
 use crate::lanes::{F64x2, F64x4, Lanes};
 use crate::law::rough::rub_pair;
-use crate::law::{
-    Body, Law, Resolution, Rough, hold, is_impact, resolve_lanes, rub_walls, touch_walls,
-};
-use crate::parallel::{CHUNK, SharedSlice, prefetch};
+use crate::law::{Law, Rough, hold, is_impact, pair_impulse, resolve_lanes, virial_terms};
+use crate::parallel::{SharedSlice, prefetch};
 use crate::part::Tally;
 use crate::particles::Particles;
-use crate::sum::{ExactSum, WallSums};
 
-/// What resolving the contacts of a substep adds up.
-#[derive(Clone, Debug)]
-pub(crate) struct Resolved {
-    /// The collision virial `Σ r_ij · Δp_ij`, summed exactly (so in no particular order).
-    pub virial: ExactSum,
-    /// The pairs that met as impacts ([`is_impact`]), not resting contacts.
-    pub impacts: usize,
-    /// The energy friction and rolling resistance removed (rough discs), summed exactly.
-    pub friction: ExactSum,
-}
-
-impl Resolved {
-    pub(crate) fn new() -> Self {
-        Resolved {
-            virial: ExactSum::new(),
-            impacts: 0,
-            friction: ExactSum::new(),
-        }
-    }
-
-    fn merge(&mut self, other: &Resolved) {
-        self.virial.merge(&other.virial);
-        self.impacts += other.impacts;
-        self.friction.merge(&other.friction);
-    }
-}
+use super::{Recording, Resolved};
 
 /// How many contacts ahead the solver asks for the discs' cache lines.
 const PREFETCH_AHEAD: usize = 8;
@@ -73,6 +33,7 @@ pub(crate) fn resolve_all(
     p: &mut Particles,
     ctx: &StepContext,
     uniform_radius: Option<f64>,
+    recording: Recording,
 ) -> Resolved {
     // What the unsafe writes below rely on, checked once: the contacts index this storage
     // (their pieces' disjointness is `Contacts`' own invariant).
@@ -97,14 +58,30 @@ pub(crate) fn resolve_all(
     // (Unread unless `UNIFORM`.)
     let r = uniform_radius.unwrap_or(f64::NAN);
     match (scattered, radius_is_mass, uniform_radius.is_some()) {
-        (true, true, true) => resolve_pieces::<true, true, true>(contacts, p, ctx, walls, r),
-        (true, false, true) => resolve_pieces::<true, false, true>(contacts, p, ctx, walls, r),
-        (true, true, false) => resolve_pieces::<true, true, false>(contacts, p, ctx, walls, r),
-        (true, false, false) => resolve_pieces::<true, false, false>(contacts, p, ctx, walls, r),
-        (false, true, true) => resolve_pieces::<false, true, true>(contacts, p, ctx, walls, r),
-        (false, false, true) => resolve_pieces::<false, false, true>(contacts, p, ctx, walls, r),
-        (false, true, false) => resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r),
-        (false, false, false) => resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r),
+        (true, true, true) => {
+            resolve_pieces::<true, true, true>(contacts, p, ctx, walls, r, recording)
+        }
+        (true, false, true) => {
+            resolve_pieces::<true, false, true>(contacts, p, ctx, walls, r, recording)
+        }
+        (true, true, false) => {
+            resolve_pieces::<true, true, false>(contacts, p, ctx, walls, r, recording)
+        }
+        (true, false, false) => {
+            resolve_pieces::<true, false, false>(contacts, p, ctx, walls, r, recording)
+        }
+        (false, true, true) => {
+            resolve_pieces::<false, true, true>(contacts, p, ctx, walls, r, recording)
+        }
+        (false, false, true) => {
+            resolve_pieces::<false, false, true>(contacts, p, ctx, walls, r, recording)
+        }
+        (false, true, false) => {
+            resolve_pieces::<false, true, false>(contacts, p, ctx, walls, r, recording)
+        }
+        (false, false, false) => {
+            resolve_pieces::<false, false, false>(contacts, p, ctx, walls, r, recording)
+        }
     }
 }
 
@@ -122,8 +99,10 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     ctx: &StepContext,
     walls: Option<([f64; 2], [f64; 2])>,
     uniform_radius: f64,
+    recording: Recording,
 ) -> Resolved {
     let tally = ctx.tally;
+    let ids = &p.id;
     let law = &ctx.law;
     let min_image = ctx.geometry.min_image();
     let radius = &p.radius;
@@ -164,7 +143,7 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     // one-cell ring, and the pieces of one phase hold blocks rows that are that far apart
     // (see `Contacts::split`). Indices come from the current storage, so they are in bounds.
     #[inline(always)]
-    unsafe fn resolve<L: Lanes, const ROUGH: bool>(
+    unsafe fn resolve<L: Lanes, const ROUGH: bool, const RECORD: bool>(
         pair: impl Fn(usize) -> (usize, usize),
         discs: &Discs<'_, impl Fn(usize) -> f64, impl Fn(usize) -> f64>,
         sums: &mut Resolved,
@@ -183,6 +162,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
             resting_speed,
             omega,
             spin,
+            ids,
+            recording,
         } = discs;
         // The lanes' indices read once: the disc stores below go through raw pointers, which
         // the compiler cannot tell apart from the contact list, so it would read them anew
@@ -243,27 +224,36 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
                     (rubbed.v1, rubbed.v2, lane_values(rubbed.work))
                 }
             };
-            // The pair's impulse: half the difference of the momentum changes.
-            let half = L::splat(0.5);
-            // (Written out, not `[0, 1].map`: the compiler left that closure out of line.)
-            let impulse_along = |k: usize| half * (ma * (v1[k] - va[k]) - mb * (v2[k] - vb[k]));
-            let impulse = [impulse_along(0), impulse_along(1)];
-            let term = diff[0] * impulse[0] + diff[1] * impulse[1];
+            let impulse = pair_impulse([va, vb], [v1, v2], [ma, mb]);
+            let (term, tensor) = virial_terms(diff, impulse);
             // The lanes' terms (zero where the tally does not count the pair) added together.
             let (xa_at, ya_at) = (lane_values(xa), lane_values(ya));
             let mut terms = lane_values(term);
+            let mut tensor = tensor.map(lane_values);
             let approach = lane_values(out.approach);
             for k in 0..L::LANES {
                 if tally.is_some_and(|t| !t.counts(xa_at[k], ya_at[k])) {
                     terms[k] = 0.0;
                     rubbed[k] = 0.0;
+                    if RECORD {
+                        tensor.iter_mut().for_each(|t| t[k] = 0.0);
+                    }
                 } else {
-                    sums.impacts += is_impact(approach[k], *resting_speed) as usize;
+                    let impact = is_impact(approach[k], *resting_speed);
+                    sums.impacts += impact as usize;
+                    if RECORD && recording.impacts && impact {
+                        sums.collided.extend([ids[a(k)].0, ids[b(k)].0]);
+                    }
                 }
             }
             sums.virial.add_all(&terms[..L::LANES]);
             if ROUGH {
                 sums.friction.add_all(&rubbed[..L::LANES]);
+            }
+            if RECORD && recording.tensor {
+                for (sum, terms) in sums.tensor.iter_mut().zip(&tensor) {
+                    sum.add_all(&terms[..L::LANES]);
+                }
             }
             let (mut xa, mut ya) = (xa + out.push[0], ya + out.push[1]);
             let (mut xb, mut yb) = (xb - out.push[0], yb - out.push[1]);
@@ -295,6 +285,8 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         resting_speed: ctx.resting_speed,
         omega: &omega,
         spin,
+        ids,
+        recording,
     };
     let mut sums = Resolved::new();
     let list = contacts.list();
@@ -319,10 +311,11 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
         };
         // SAFETY: as the caller promises.
         unsafe {
-            if discs.spin.is_some() {
-                resolve::<L, true>(pair, discs, sums)
-            } else {
-                resolve::<L, false>(pair, discs, sums)
+            match (discs.spin.is_some(), discs.recording.any()) {
+                (true, false) => resolve::<L, true, false>(pair, discs, sums),
+                (false, false) => resolve::<L, false, false>(pair, discs, sums),
+                (true, true) => resolve::<L, true, true>(pair, discs, sums),
+                (false, true) => resolve::<L, false, true>(pair, discs, sums),
             }
         };
     }
@@ -395,113 +388,6 @@ fn resolve_pieces<const PREFETCH: bool, const RADIUS_MASS: bool, const UNIFORM: 
     sums
 }
 
-/// A pair as [`resolve_in_order`] met it.
-pub(crate) struct PairResolved {
-    /// Storage indices, the lower id's first.
-    pub a: usize,
-    pub b: usize,
-    /// `x_a - x_b` (the minimum image) when it was resolved.
-    pub diff: [f64; 2],
-    /// Disc `a`'s centre when it was resolved.
-    pub at: [f64; 2],
-    /// The two discs going in.
-    pub before: [Body; 2],
-    /// The law's resolution.
-    pub out: Resolution,
-}
-
-/// The contacts of the last `Contacts::find` (storage indices) in an order that, resolved
-/// one at a time, gives the solver's bits: its phases, pieces, colour rows and quarters in
-/// turn (the quarters of a colour row touch disjoint discs, so their interleaving is free).
-pub(crate) fn solver_order(contacts: &Contacts) -> Vec<(usize, usize)> {
-    let list = contacts.list();
-    let mut order = Vec::with_capacity(list.len());
-    for phase in contacts.phases() {
-        for piece in phase.clone() {
-            for colour_rows in &contacts.pieces()[piece] {
-                for s in colour_rows.clone() {
-                    for quarter in contacts.quarters(s).into_iter().flatten() {
-                        order.extend(list[quarter].iter().map(|c| (c.a as usize, c.b as usize)));
-                    }
-                }
-            }
-        }
-    }
-    order
-}
-
-/// The seed's steps 1–7 for each pair (storage indices, the lower id's first) in order, on
-/// the current state (a disc pushed by one pair is seen at its new place by the next), with
-/// rough discs' friction; walls hold after each push. `each` sees every pair as resolved.
-/// Returns the collision virial, the impacts and the friction work of the pairs `tally`
-/// counts (by the lower-id disc's place), as [`resolve_all`] does: the fast step's solver when
-/// it reports contacts, measures the pressure tensor or counts collisions, and in a
-/// Lees–Edwards box (the plain step resolves with its own loop, so this one is held to it).
-pub(crate) fn resolve_in_order(
-    p: &mut Particles,
-    pairs: impl IntoIterator<Item = (usize, usize)>,
-    law: &Law,
-    geometry: &Geometry,
-    (resting_speed, tally): (f64, Option<Tally>),
-    mut each: impl FnMut(&Particles, &PairResolved),
-) -> Resolved {
-    let min_image = geometry.min_image();
-    let mut sums = Resolved::new();
-    let rubs = law.rough.is_some_and(|rough| rough.rubs_pairs());
-    for (a, b) in pairs {
-        let diff = min_image.diff(p.x[a], p.y[a], p.x[b], p.y[b]);
-        let body = |i: usize| Body {
-            velocity: [p.vx[i], p.vy[i]],
-            radius: p.radius[i],
-            mass: law.mass(p.radius[i], p.mass[i]),
-            angular_velocity: p.omega.get(i).copied().unwrap_or(0.0),
-        };
-        let (one, two) = (body(a), body(b));
-        // Across a Lees–Edwards box's top or bottom, `b` is seen from `a`'s side.
-        let out = law.resolve_seen(diff, &one, &two, min_image.image_velocity(p.y[a], p.y[b]));
-        let at = [p.x[a], p.y[a]];
-        if tally.is_none_or(|t| t.counts(at[0], at[1])) {
-            // The pair's impulse: the antisymmetric part of the two momentum changes.
-            let impulse = [0, 1].map(|k| {
-                0.5 * (one.mass * (out.v1[k] - one.velocity[k])
-                    - two.mass * (out.v2[k] - two.velocity[k]))
-            });
-            sums.virial.add(diff[0] * impulse[0] + diff[1] * impulse[1]);
-            sums.impacts += is_impact(out.approach, resting_speed) as usize;
-            if rubs {
-                sums.friction.add(out.friction_work);
-            }
-        }
-        p.x[a] += out.push[0];
-        p.y[a] += out.push[1];
-        p.x[b] -= out.push[0];
-        p.y[b] -= out.push[1];
-        for i in [a, b] {
-            let (mut x, mut y) = (p.x[i], p.y[i]);
-            geometry.hold(&mut x, &mut y, p.radius[i]);
-            (p.x[i], p.y[i]) = (x, y);
-        }
-        [p.vx[a], p.vy[a]] = out.v1;
-        [p.vx[b], p.vy[b]] = out.v2;
-        if rubs {
-            (p.omega[a], p.omega[b]) = (out.w1, out.w2);
-        }
-        let before = [one, two];
-        each(
-            p,
-            &PairResolved {
-                a,
-                b,
-                diff,
-                at,
-                before,
-                out,
-            },
-        );
-    }
-    sums
-}
-
 /// What resolving a contact reads besides the contact.
 struct Discs<'a, R, M> {
     x: &'a SharedSlice<'a, f64>,
@@ -520,6 +406,9 @@ struct Discs<'a, R, M> {
     omega: &'a SharedSlice<'a, f64>,
     /// Rough pairs' coefficients, when pairs rub.
     spin: Option<Rough>,
+    /// The discs' ids (read only when recording impacts).
+    ids: &'a [crate::ParticleId],
+    recording: Recording,
 }
 
 /// The lanes of `v` as an array of up to four.
@@ -528,69 +417,4 @@ fn lane_values<L: Lanes>(v: L) -> [f64; 4] {
     let mut out = [0.0; 4];
     v.each(|k, v| out[k] = v);
     out
-}
-
-/// Walls as contacts of a solver pass: every disc touching a wall (its centre at most its
-/// radius from it, as [`Geometry::hold`] leaves pushed discs) and moving into it leaves with
-/// its normal velocity reversed and scaled by the walls' restitution, like a reflection in
-/// integration. Returns the momentum given to each wall by the discs the tally counts.
-pub(crate) fn resolve_walls(p: &mut Particles, ctx: &StepContext) -> WallSums {
-    let Geometry::Walls {
-        min,
-        max,
-        restitution: e,
-    } = ctx.geometry
-    else {
-        return WallSums::default();
-    };
-    let law = &ctx.law;
-    let e = law.restitution_of(e);
-    let tally = ctx.tally;
-    let rubbing = law.rough.filter(|rough| rough.rubs_walls());
-    let (x, y, radius, mass) = (&p.x, &p.y, &p.radius, &p.mass);
-    // (The angular velocities' chunks are empty for smooth discs.)
-    let mut omega_chunks: Vec<&mut [f64]> = p.omega.chunks_mut(CHUNK).collect();
-    omega_chunks.resize_with(p.vx.len().div_ceil(CHUNK), || &mut []);
-    type Chunk<'a> = (usize, &'a mut [f64], &'a mut [f64], &'a mut [f64]);
-    let mut chunks: Vec<Chunk> =
-        p.vx.chunks_mut(CHUNK)
-            .zip(p.vy.chunks_mut(CHUNK))
-            .zip(omega_chunks)
-            .enumerate()
-            .map(|(c, ((vx, vy), omega))| (c * CHUNK, vx, vy, omega))
-            .collect();
-    // One axis: the impulse on the low and the high wall.
-    let partial = ctx
-        .exec
-        .map_mut(p.x.len(), &mut chunks, |_, (base, vx, vy, omega)| {
-            let mut impulse = WallSums::default();
-            for (k, (vx, vy)) in vx.iter_mut().zip(vy.iter_mut()).enumerate() {
-                let i = *base + k;
-                let r = radius[i];
-                let m = law.mass(r, mass[i]);
-                let [left, right] = touch_walls(x[i], vx, r, m, min[0], max[0], e);
-                let [bottom, top] = touch_walls(y[i], vy, r, m, min[1], max[1], e);
-                let hits = [left, right, bottom, top];
-                let counted = tally.is_none_or(|t| t.counts(x[i], y[i]));
-                if counted {
-                    impulse.add(hits);
-                }
-                if let Some(rough) = &rubbing
-                    && hits != [0.0; 4]
-                {
-                    let mut velocity = [*vx, *vy];
-                    let work = rub_walls(hits, &mut velocity, &mut omega[k], r, m, rough);
-                    [*vx, *vy] = velocity;
-                    if counted {
-                        impulse.friction.add(work);
-                    }
-                }
-            }
-            impulse
-        });
-    let mut total = WallSums::default();
-    for impulse in &partial {
-        total.merge(impulse);
-    }
-    total
 }
