@@ -118,7 +118,9 @@ pub fn run(args: &RunArgs, stop: Arc<AtomicUsize>) -> Result<Outcome> {
                 return overflowed(args, &start_world, outputs, step - 1, &id);
             }
             Ok(e) => return Err(e.into()),
-            Err(e) => return Err(e),
+            // An output failed (a value its format cannot hold, a full disk): what was written
+            // is kept.
+            Err(e) => return Err(outputs.salvage(&session.world, e)),
         },
     };
     let physics_time = (clock.elapsed().as_secs_f64() - output_time).max(0.0);
@@ -729,6 +731,22 @@ impl Outputs {
     /// Writes what is due at the world's current step.
     pub(crate) fn record(&mut self, world: &World) -> Result<()> {
         self.write(world, false)
+    }
+
+    /// Completes every file at `world`'s step after an output failed there (a value its format
+    /// cannot hold, a full disk), so that no failure loses the run: each output stays
+    /// readable up to the last step it was written for, with a checkpoint of this state.
+    /// Returns `error`, saying what was kept.
+    pub(crate) fn salvage(self, world: &World, error: anyhow::Error) -> anyhow::Error {
+        let step = world.step_count();
+        let totals = self.run_state();
+        match self.finish_at(world, totals, None) {
+            Ok(_) => anyhow!(
+                "{error:#}\nThe outputs hold the run up to the last step each was written for, \
+                 and checkpoint.bin its state at step {step}."
+            ),
+            Err(also) => anyhow!("{error:#}\nThe outputs could not be completed either: {also:#}"),
+        }
     }
 
     /// Completes every file; `stopped`: the run ends before its last step, which is then

@@ -1,7 +1,8 @@
 //! Regression tests for what the third hostile round found (issue 60), each named for its
 //! find: damaged GSD files, FIFOs and devices, a spin whose energy overflows, a box too small
 //! for a pressure, and sweeps whose product of lists runs away. Each is refused with a
-//! message naming it, quickly, with no panic.
+//! message naming it, quickly, with no panic; and an output that cannot hold a value keeps
+//! the run written so far.
 
 mod common;
 
@@ -237,4 +238,40 @@ fn a_sweep_whose_product_runs_away_is_refused_with_its_count() {
     assert_eq!(code, 0, "{err}");
     let script = std::fs::read_to_string(s.path("ws/sweep.sbatch")).unwrap();
     assert!(script.contains("--max-jobs 12000"), "{script}");
+}
+
+#[test]
+fn an_output_that_cannot_hold_a_value_keeps_the_run_written_so_far() {
+    // Two discs falling under a gravity of 1e37: at step 583 the open world's box no longer
+    // fits a GSD frame's 32-bit floats. Every file keeps what it held before.
+    let s = Scratch::new();
+    let scenario = s.scenario(
+        "fall.toml",
+        "[world]\nboundary = \"open\"\ngravity = [0.0, -1e37]\n[time]\ndt = 0.01\n\
+         steps = 1000\n[[disc]]\nposition = [0.0, 0.0]\nradius = 0.5\n[[disc]]\n\
+         position = [3.0, 0.0]\nradius = 0.5\n[output]\nstats_every = 1\ngsd_every = 1\n\
+         plots = false\n",
+    );
+    let (code, _, err) = output(
+        bounce()
+            .arg("run")
+            .arg(&scenario)
+            .arg("--out")
+            .arg(s.path("run"))
+            .arg("-q"),
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("beyond the 32-bit floats") && err.contains("its state at step 583"),
+        "{err}"
+    );
+    let stats = std::fs::read_to_string(s.path("run/stats.csv")).unwrap();
+    let last = stats.lines().last().unwrap();
+    assert_eq!(stats.lines().count(), 1 + 584, "{last}");
+    assert!(last.starts_with("583,"), "{last}");
+    let gsd = bounce_scenario::trajectory::Trajectory::open(&s.path("run/trajectory.gsd")).unwrap();
+    assert_eq!(gsd.len(), 583, "frames 0 to 582");
+    let checkpoint = std::fs::read(s.path("run/checkpoint.bin")).unwrap();
+    let loaded = bounce_scenario::checkpoint::decode(&checkpoint, "checkpoint.bin").unwrap();
+    assert_eq!(loaded.world.step_count(), 583);
 }

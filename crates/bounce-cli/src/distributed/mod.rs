@@ -234,8 +234,12 @@ fn run(
         }
         if schedule.any_due(step) {
             let whole = ranks.gather(&stats)?;
-            if let (Some(outputs), Some(whole)) = (&mut outputs, whole) {
-                outputs.record(&whole)?;
+            if let (Some(out), Some(whole)) = (&mut outputs, whole)
+                && let Err(e) = out.record(&whole)
+            {
+                // What was written is kept, as one process keeps it.
+                let out = outputs.take().expect("rank 0 writes");
+                return Err(Failure::Alone(out.salvage(&whole, e)));
             }
         }
         output_time += t.elapsed().as_secs_f64();
