@@ -135,7 +135,7 @@ pub fn analyze(request: &Request) -> Result<()> {
 fn write_csv(path: &Path, header: &str, rows: &[(f64, f64)]) -> Result<()> {
     let mut file =
         AtomicFile::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    let w = file.writer();
+    let w = &mut file;
     writeln!(w, "{header}")?;
     for (x, y) in rows {
         writeln!(w, "{x},{y}")?;

@@ -28,7 +28,7 @@ const HEADER: &str = "step,time,kind,a,b,x,y,nx,ny,normal_impulse,tangent_impuls
 
 /// The open `events.csv`.
 pub struct EventsCsv {
-    file: std::io::BufWriter<AtomicFile>,
+    file: AtomicFile,
     /// Each obstacle's name in the file (`NAME` or its index).
     obstacles: Vec<String>,
     /// The last step written, so a step is never written twice.
@@ -38,7 +38,7 @@ pub struct EventsCsv {
 impl EventsCsv {
     /// Starts `events.csv` in `dir`.
     pub fn create(dir: &Path, session: &Session) -> Result<Self> {
-        let mut file = std::io::BufWriter::new(AtomicFile::create(&dir.join("events.csv"))?);
+        let mut file = AtomicFile::create(&dir.join("events.csv"))?;
         writeln!(file, "{HEADER}")?;
         Ok(EventsCsv {
             file,
@@ -51,11 +51,12 @@ impl EventsCsv {
     /// for byte (a new file without an earlier one).
     pub fn resume(dir: &Path, session: &Session, k: u64) -> Result<Self> {
         let keep = |step: u64| step <= k;
-        let Some(file) = crate::rows::continue_rows(&dir.join("events.csv"), HEADER, &keep)? else {
+        let Some(file) = crate::rows::continue_rows(&dir.join("events.csv"), HEADER, &keep, None)?
+        else {
             return EventsCsv::create(dir, session);
         };
         Ok(EventsCsv {
-            file: std::io::BufWriter::new(file),
+            file,
             obstacles: obstacle_names(session),
             written: Some(k),
         })
@@ -85,6 +86,8 @@ impl EventsCsv {
         for event in events {
             self.row(step, event.time(end, dt, substeps), event)?;
         }
+        // The step's rows are whole: a second signal keeps them.
+        self.file.mark_whole();
         Ok(())
     }
 
@@ -110,12 +113,7 @@ impl EventsCsv {
 
     /// Flushes and renames the file into place.
     pub fn finish(self) -> Result<()> {
-        let file = self
-            .file
-            .into_inner()
-            .map_err(|e| e.into_error())
-            .context("cannot write events.csv")?;
-        Ok(file.commit()?)
+        self.file.commit().context("cannot write events.csv")
     }
 }
 

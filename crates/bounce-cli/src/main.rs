@@ -199,8 +199,9 @@ impl Steer {
 /// Stores the number of the first SIGINT, SIGTERM or SIGHUP received: the run stops at its
 /// last whole step (within a second, even inside a long step), writes everything and exits
 /// with 128 + that number. With `second_exits`, a second signal, for a user who will not
-/// wait, exits at once: the files being written are removed, those already complete stay,
-/// none is left half-written. (Not under `mpirun`, which forwards one signal to its ranks
+/// wait, exits at once: files growing row by row or frame by frame keep what was whole,
+/// the others being written are removed, those already complete stay, none is left
+/// half-written (`bounce_scenario::atomic::exit_now`). (Not under `mpirun`, which forwards one signal to its ranks
 /// more than once: there the first is the stop, and repeats change nothing.)
 fn stop_on_signals(second_exits: bool) -> Result<Arc<AtomicUsize>> {
     let stop = Arc::new(AtomicUsize::new(0));
@@ -218,8 +219,8 @@ fn stop_on_signals(second_exits: bool) -> Result<Arc<AtomicUsize>> {
                         first.store(signal as usize, Ordering::SeqCst);
                     } else if second_exits {
                         eprintln!(
-                            "bounce: second signal ({signal}): exiting now; the files being \
-                             written are removed, the last complete ones stay"
+                            "bounce: second signal ({signal}): exiting now; the rows and frames \
+                             already whole are kept, the files being written removed"
                         );
                         bounce_scenario::atomic::exit_now(128 + signal);
                     }

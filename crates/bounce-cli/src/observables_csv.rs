@@ -13,7 +13,7 @@
 //! checkpoint's step (and the origin the checkpoint saved), so its files equal an
 //! uninterrupted run's byte for byte.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -27,32 +27,33 @@ const MSD_HEADER: &str = "step,time,msd,vacf";
 
 /// A CSV file of rows that start with their step.
 struct Rows {
-    file: BufWriter<AtomicFile>,
+    file: AtomicFile,
 }
 
 impl Rows {
     fn create(path: &Path, header: &str) -> Result<Rows> {
-        let mut file = BufWriter::new(
-            AtomicFile::create(path).with_context(|| format!("cannot write {}", path.display()))?,
-        );
+        let mut file =
+            AtomicFile::create(path).with_context(|| format!("cannot write {}", path.display()))?;
         writeln!(file, "{header}")?;
         Ok(Rows { file })
     }
 
     /// The file at `path` continued: its rows whose step passes `keep`, byte for byte (a
     /// new file without an earlier one).
-    fn resume(path: &Path, header: &str, keep: &dyn Fn(u64) -> bool) -> Result<Rows> {
-        match crate::rows::continue_rows(path, header, keep)? {
-            Some(file) => Ok(Rows {
-                file: BufWriter::new(file),
-            }),
+    fn resume(
+        path: &Path,
+        header: &str,
+        keep: &dyn Fn(u64) -> bool,
+        through: Option<u64>,
+    ) -> Result<Rows> {
+        match crate::rows::continue_rows(path, header, keep, through)? {
+            Some(file) => Ok(Rows { file }),
             None => Rows::create(path, header),
         }
     }
 
     fn finish(self) -> Result<()> {
-        let file = self.file.into_inner().map_err(|e| e.into_error())?;
-        Ok(file.commit()?)
+        Ok(self.file.commit()?)
     }
 }
 
@@ -91,6 +92,7 @@ impl ObservablesCsv {
         dir: &Path,
         session: &Session,
         keep: &dyn Fn(u64) -> bool,
+        through: Option<u64>,
         origin: Option<Origin>,
     ) -> Result<Self> {
         let o = &session.output;
@@ -99,15 +101,16 @@ impl ObservablesCsv {
             profile: match o.profile {
                 Some(spec) => Some((
                     spec,
-                    Rows::resume(&path("profile.csv"), PROFILE_HEADER, keep)?,
+                    Rows::resume(&path("profile.csv"), PROFILE_HEADER, keep, through)?,
                 )),
                 None => None,
             },
             msd: match (o.msd, origin) {
                 (false, _) => None,
-                (true, Some(origin)) => {
-                    Some((origin, Rows::resume(&path("msd.csv"), MSD_HEADER, keep)?))
-                }
+                (true, Some(origin)) => Some((
+                    origin,
+                    Rows::resume(&path("msd.csv"), MSD_HEADER, keep, through)?,
+                )),
                 (true, None) => bail!(
                     "output.msd: the checkpoint holds no origin to measure the displacements \
                      from (its run did not write msd.csv); start the run anew"
@@ -140,6 +143,16 @@ impl ObservablesCsv {
                 Some((msd, vacf)) => writeln!(rows.file, "{step},{time},{msd},{vacf}")?,
                 None => writeln!(rows.file, "{step},{time},,")?,
             }
+        }
+        // The step's rows are whole: a second signal keeps them.
+        for rows in [
+            self.profile.as_mut().map(|p| &mut p.1),
+            self.msd.as_mut().map(|m| &mut m.1),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            rows.file.mark_whole();
         }
         Ok(())
     }

@@ -550,6 +550,8 @@ impl Outputs {
         // Everything before the checkpoint's step, and at it only what the schedule has
         // there (not the extra last step of a stopped run).
         let keep = |every: u64| move |step: u64| step < k || (step == k && on_schedule(every, k));
+        // The last step on the schedule up to the checkpoint's: the files must reach it.
+        let through = |every: u64| Some(if every > 0 { k - k % every } else { 0 });
         let spec = &schedule.output;
         let observables = if wants_observables(session) {
             let origin = run.origin.clone();
@@ -557,6 +559,7 @@ impl Outputs {
                 dir,
                 session,
                 &keep(spec.stats_every),
+                through(spec.stats_every),
                 origin,
             )?)
         } else {
@@ -567,6 +570,7 @@ impl Outputs {
             total_mass,
             ScenarioColumns::of(session),
             keep(spec.stats_every),
+            through(spec.stats_every),
             run,
         )?;
         let gsd = if spec.gsd_every > 0 {
@@ -579,6 +583,18 @@ impl Outputs {
         } else {
             None
         };
+        if let (Some(gsd), Some(through)) = (&gsd, through(spec.gsd_every))
+            && gsd.last_step().is_some_and(|last| last < through)
+        {
+            bail!(
+                "{}: its frames end at step {}, but the checkpoint's run wrote frames through \
+                 step {through}: they are gone (cut short after the checkpoint was saved), and \
+                 continuing would leave a hole; resume into a folder holding the run's whole \
+                 files, or start the run anew",
+                dir.join("trajectory.gsd").display(),
+                gsd.last_step().unwrap_or(0)
+            );
+        }
         let keep_frame = keep(spec.frame_every);
         for (step, frame) in frame_files(&dir.join("frames")) {
             if !keep_frame(step) {

@@ -302,10 +302,12 @@ impl StatsCsv {
         total_mass: f64,
         obstacles: ScenarioColumns,
         keep: impl Fn(u64) -> bool,
+        through: Option<u64>,
         run: RunState,
     ) -> Result<Self> {
         let header = obstacles.header().join(",");
-        let Some(file) = crate::rows::continue_rows(&dir.join("stats.csv"), &header, &keep)? else {
+        let path = dir.join("stats.csv");
+        let Some(file) = crate::rows::continue_rows(&path, &header, &keep, through)? else {
             let mut fresh = StatsCsv::create(dir, total_mass, obstacles)?;
             fresh.totals = Totals::resumed(run);
             return Ok(fresh);
@@ -357,6 +359,9 @@ impl StatsCsv {
         ];
         record.extend(extra);
         self.writer.write_record(record)?;
+        // The row is whole: a second signal keeps it.
+        self.writer.flush()?;
+        self.writer.get_ref().mark_whole();
         self.totals.reset(scheduled, row_energy);
         Ok(())
     }

@@ -827,3 +827,100 @@ fn a_closed_standard_output_ends_the_command_quietly() {
 /// SIGPIPE's number on Linux and the BSDs.
 #[cfg(unix)]
 const SIGPIPE: i32 = 13;
+
+#[test]
+fn a_second_signal_keeps_every_whole_row_and_frame_and_the_run_resumes_from_them() {
+    // The third round's find: a second SIGTERM removed `stats.csv` and `trajectory.gsd` as
+    // files being written, and `--resume` then began `stats.csv` at the last checkpoint's
+    // step without a word. Now the second signal keeps each up to its last whole row or
+    // frame, and the resumed run equals an uninterrupted one.
+    let s = Scratch::new();
+    let text = SMALL
+        .replace("steps = 40", "steps = 300000")
+        .replace("count = 60", "count = 400")
+        .replace("stats_every = 5", "stats_every = 50")
+        .replace(
+            "frame_every = 20",
+            "frame_every = 100000\ncheckpoint_every = 20000",
+        )
+        .replace("gsd_every = 10", "gsd_every = 1000")
+        .replace("gif = true", "gif = false");
+    let scenario = s.scenario("long.toml", &text);
+    let (code, _, stderr) = run(&s, &scenario, "straight", &[]);
+    assert_eq!(code, 0, "{stderr}");
+    let out = s.path("cut");
+    let child = bounce()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&scenario)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    kill(&child, "TERM");
+    std::thread::sleep(Duration::from_millis(30));
+    kill(&child, "TERM");
+    let done = wait(child, Duration::from_secs(60), "the twice signalled run");
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(143), "{stderr}");
+    assert!(stderr.contains("second signal"), "{stderr}");
+    assert!(temporaries(&out).is_empty(), "{:?}", temporaries(&out));
+    // Every row and frame up to the last whole one, none missing.
+    let stats = std::fs::read_to_string(out.join("stats.csv")).unwrap();
+    let steps: Vec<u64> = (stats.lines().skip(1))
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(steps.len() > 10, "{} rows", steps.len());
+    for (k, step) in steps.iter().enumerate() {
+        // (The last row may be the stop's, off the schedule.)
+        assert!(
+            *step == 50 * k as u64 || k == steps.len() - 1,
+            "row {k} is step {step}"
+        );
+    }
+    let frames = gsd_steps(&out.join("trajectory.gsd"));
+    assert!(!frames.is_empty());
+    for (k, step) in frames.iter().enumerate() {
+        assert!(
+            *step == 1000 * k as u64 || k == frames.len() - 1,
+            "frame {k} is step {step}"
+        );
+    }
+    // The run continues from its checkpoint over those files, as if never interrupted.
+    let checkpoint = out.join("checkpoint.bin");
+    let (code, _, stderr) = run(
+        &s,
+        &scenario,
+        "cut",
+        &["--resume", checkpoint.to_str().unwrap()],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    assert_same_run(&s.path("straight"), &out);
+}
+
+#[test]
+fn a_resume_over_rows_that_were_lost_says_so_and_stops() {
+    let s = Scratch::new();
+    let scenario = s.scenario("small.toml", SMALL);
+    assert_eq!(run(&s, &scenario, "cut", &["--steps", "30"]).0, 0);
+    // Rows after step 10 lost (as a second signal once removed them).
+    let path = s.path("cut/stats.csv");
+    let stats = std::fs::read_to_string(&path).unwrap();
+    let kept: Vec<&str> = stats.lines().take(4).collect();
+    std::fs::write(&path, kept.join("\n") + "\n").unwrap();
+    let checkpoint = s.path("cut/checkpoint.bin");
+    let (code, _, stderr) = run(
+        &s,
+        &scenario,
+        "cut",
+        &["--resume", checkpoint.to_str().unwrap()],
+    );
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("stats.csv")
+            && stderr.contains("ends at step 10")
+            && stderr.contains("through step 30"),
+        "{stderr}"
+    );
+}

@@ -30,6 +30,7 @@
 
 use std::io::{self, Seek, SeekFrom, Write};
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 use bounce::{Boundary, World};
 
@@ -169,13 +170,80 @@ struct IndexEntry {
     kind: Type,
 }
 
-/// Writes a trajectory frame by frame; [`GsdWriter::finish`] completes the file.
+/// The chunks written so far: their names and index entries. Shared with the file's closing
+/// (a second signal keeps the whole frames: [`crate::atomic::exit_now`]).
+#[derive(Default)]
+struct Layout {
+    names: Vec<String>,
+    index: Vec<IndexEntry>,
+}
+
+impl Layout {
+    /// The name list and the index of the chunks before byte `end` (the whole frames of a
+    /// file cut there), to append at `end`, and the header that points at them.
+    fn closing(&self, end: u64) -> (Vec<u8>, Vec<u8>) {
+        // Name list: NUL-terminated names, then at least one NUL (the end marker), padded to
+        // whole 64-byte blocks.
+        let mut names: Vec<u8> = Vec::new();
+        for name in &self.names {
+            names.extend_from_slice(name.as_bytes());
+            names.push(0);
+        }
+        names.push(0);
+        names.resize(names.len().div_ceil(NAME_BLOCK) * NAME_BLOCK, 0);
+        let namelist_location = end;
+
+        // Index: sorted by (frame, id); room for more entries than frames (readers check
+        // frame < allocated entries) and an all-zero end marker.
+        let mut index: Vec<&IndexEntry> = self.index.iter().filter(|e| e.location < end).collect();
+        index.sort_by_key(|e| (e.frame, e.id));
+        let frames = index.last().map_or(0, |e| e.frame + 1);
+        let allocated = (index.len() + 1)
+            .max(frames as usize + 1)
+            .next_power_of_two();
+        let index_location = end + names.len() as u64;
+        let mut tail = names;
+        for e in index {
+            tail.extend_from_slice(&e.frame.to_le_bytes());
+            tail.extend_from_slice(&e.n.to_le_bytes());
+            tail.extend_from_slice(&(e.location as i64).to_le_bytes());
+            tail.extend_from_slice(&e.m.to_le_bytes());
+            tail.extend_from_slice(&e.id.to_le_bytes());
+            tail.push(e.kind as u8);
+            tail.push(0); // flags
+        }
+        let names_len = (index_location - namelist_location) as usize;
+        tail.resize(names_len + allocated * 32, 0);
+
+        let mut header = Vec::with_capacity(HEADER_SIZE as usize);
+        header.extend_from_slice(&MAGIC.to_le_bytes());
+        header.extend_from_slice(&index_location.to_le_bytes());
+        header.extend_from_slice(&(allocated as u64).to_le_bytes());
+        header.extend_from_slice(&namelist_location.to_le_bytes());
+        header.extend_from_slice(&((names_len / NAME_BLOCK) as u64).to_le_bytes());
+        header.extend_from_slice(&version(1, 4).to_le_bytes()); // hoomd schema version
+        header.extend_from_slice(&version(2, 0).to_le_bytes()); // file layer version
+        let mut text = |s: &str, len: usize| {
+            let mut field = s.as_bytes()[..s.len().min(len - 1)].to_vec();
+            field.resize(len, 0);
+            header.extend_from_slice(&field);
+        };
+        text(concat!("bounce ", env!("CARGO_PKG_VERSION")), 64);
+        text("hoomd", 64);
+        header.resize(HEADER_SIZE as usize, 0);
+        (tail, header)
+    }
+}
+
+/// Writes a trajectory frame by frame; [`GsdWriter::finish`] completes the file. A second
+/// signal keeps its whole frames.
 pub struct GsdWriter {
     file: AtomicFile,
     offset: u64,
-    names: Vec<String>,
-    index: Vec<IndexEntry>,
+    layout: Arc<Mutex<Layout>>,
     frame: u64,
+    /// The step of the last frame written (or kept by a resume).
+    last_step: Option<u64>,
     /// `particles/types` as NUL-padded rows, and its row width.
     types: (Vec<u8>, u32),
     /// Each particle's type, by id (0 beyond).
@@ -187,7 +255,14 @@ impl GsdWriter {
     pub fn create(path: &Path, types: &[String], typeid: &[u32]) -> Result<Self> {
         let mut file = AtomicFile::create(path)?;
         // Placeholder header, rewritten by `finish`.
-        file.writer().write_all(&[0u8; HEADER_SIZE as usize])?;
+        file.write_all(&[0u8; HEADER_SIZE as usize])?;
+        file.mark_whole();
+        let layout = Arc::new(Mutex::new(Layout::default()));
+        let shared = layout.clone();
+        file.set_closing(Box::new(move |end| {
+            let layout = shared.lock().unwrap_or_else(|p| p.into_inner());
+            layout.closing(end)
+        }));
         let width = types.iter().map(|t| t.len()).max().unwrap_or(1) + 1;
         let mut rows = Vec::with_capacity(width * types.len().max(1));
         for t in types {
@@ -200,8 +275,8 @@ impl GsdWriter {
         Ok(GsdWriter {
             file,
             offset: HEADER_SIZE,
-            names: Vec::new(),
-            index: Vec::new(),
+            layout,
+            last_step: None,
             frame: 0,
             types: (rows, width as u32),
             typeid: typeid.to_vec(),
@@ -233,6 +308,7 @@ impl GsdWriter {
                     u64::from_le_bytes(read_at(&mut old, e.location, 8)?.try_into().expect("8"));
                 if e.frame == frames_kept && keep(step) {
                     frames_kept += 1;
+                    writer.last_step = Some(step);
                 }
             }
         }
@@ -252,32 +328,39 @@ impl GsdWriter {
             writer.chunk(&chunk_name, kind, e.n, e.m, &bytes)?;
         }
         writer.frame = frames_kept;
+        writer.file.mark_whole();
         Ok(writer)
     }
 
-    fn id(&mut self, name: &str) -> u16 {
-        match self.names.iter().position(|n| n == name) {
-            Some(i) => i as u16,
-            None => {
-                self.names.push(name.to_string());
-                (self.names.len() - 1) as u16
-            }
-        }
-    }
-
     fn chunk(&mut self, name: &str, kind: Type, n: u64, m: u32, bytes: &[u8]) -> Result<()> {
-        let id = self.id(name);
-        self.index.push(IndexEntry {
-            frame: self.frame,
-            n,
-            location: self.offset,
-            m,
-            id,
-            kind,
-        });
-        self.file.writer().write_all(bytes)?;
+        {
+            // (Released before the file is written: the file's closing takes this lock
+            // inside the file's own.)
+            let mut layout = self.layout.lock().unwrap_or_else(|p| p.into_inner());
+            let id = match layout.names.iter().position(|n| n == name) {
+                Some(i) => i as u16,
+                None => {
+                    layout.names.push(name.to_string());
+                    (layout.names.len() - 1) as u16
+                }
+            };
+            layout.index.push(IndexEntry {
+                frame: self.frame,
+                n,
+                location: self.offset,
+                m,
+                id,
+                kind,
+            });
+        }
+        self.file.write_all(bytes)?;
         self.offset += bytes.len() as u64;
         Ok(())
+    }
+
+    /// The step of the last frame written, or kept by [`GsdWriter::resume`].
+    pub fn last_step(&self) -> Option<u64> {
+        self.last_step
     }
 
     /// Gives disc `id` (a disc an emitter added) the type `typeid`.
@@ -405,6 +488,8 @@ impl GsdWriter {
             self.chunk(BOUNDARY_CHUNK, Type::U8, 1, 1, &[edges])?;
         }
         self.frame += 1;
+        self.last_step = Some(world.step_count());
+        self.file.mark_whole();
         Ok(())
     }
 
@@ -445,59 +530,13 @@ impl GsdWriter {
 
     /// Writes the name list, the index and the header, and renames the file into place.
     pub fn finish(mut self) -> Result<()> {
-        // Name list: NUL-terminated names, then at least one NUL (the end marker), padded to
-        // whole 64-byte blocks.
-        let mut names: Vec<u8> = Vec::new();
-        for name in &self.names {
-            names.extend_from_slice(name.as_bytes());
-            names.push(0);
-        }
-        names.push(0);
-        names.resize(names.len().div_ceil(NAME_BLOCK) * NAME_BLOCK, 0);
-        let namelist_location = self.offset;
-        self.file.writer().write_all(&names)?;
-        self.offset += names.len() as u64;
-
-        // Index: sorted by (frame, id); room for more entries than frames (readers check
-        // frame < allocated entries) and an all-zero end marker.
-        self.index.sort_by_key(|e| (e.frame, e.id));
-        let allocated = (self.index.len() + 1)
-            .max(self.frame as usize + 1)
-            .next_power_of_two();
-        let index_location = self.offset;
-        let mut bytes = Vec::with_capacity(allocated * 32);
-        for e in &self.index {
-            bytes.extend_from_slice(&e.frame.to_le_bytes());
-            bytes.extend_from_slice(&e.n.to_le_bytes());
-            bytes.extend_from_slice(&(e.location as i64).to_le_bytes());
-            bytes.extend_from_slice(&e.m.to_le_bytes());
-            bytes.extend_from_slice(&e.id.to_le_bytes());
-            bytes.push(e.kind as u8);
-            bytes.push(0); // flags
-        }
-        bytes.resize(allocated * 32, 0);
-        self.file.writer().write_all(&bytes)?;
-
-        let mut header = Vec::with_capacity(HEADER_SIZE as usize);
-        header.extend_from_slice(&MAGIC.to_le_bytes());
-        header.extend_from_slice(&index_location.to_le_bytes());
-        header.extend_from_slice(&(allocated as u64).to_le_bytes());
-        header.extend_from_slice(&namelist_location.to_le_bytes());
-        header.extend_from_slice(&((names.len() / NAME_BLOCK) as u64).to_le_bytes());
-        header.extend_from_slice(&version(1, 4).to_le_bytes()); // hoomd schema version
-        header.extend_from_slice(&version(2, 0).to_le_bytes()); // file layer version
-        let mut text = |s: &str, len: usize| {
-            let mut field = s.as_bytes()[..s.len().min(len - 1)].to_vec();
-            field.resize(len, 0);
-            header.extend_from_slice(&field);
-        };
-        text(concat!("bounce ", env!("CARGO_PKG_VERSION")), 64);
-        text("hoomd", 64);
-        header.resize(HEADER_SIZE as usize, 0);
-        let w = self.file.writer();
-        w.seek(SeekFrom::Start(0))?;
-        w.write_all(&header)?;
-        self.file.commit()
+        let (tail, head) = self
+            .layout
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .closing(self.offset);
+        self.file.write_all(&tail)?;
+        self.file.commit_with_head(&head)
     }
 }
 
