@@ -275,3 +275,49 @@ fn an_output_that_cannot_hold_a_value_keeps_the_run_written_so_far() {
     let loaded = bounce_scenario::checkpoint::decode(&checkpoint, "checkpoint.bin").unwrap();
     assert_eq!(loaded.world.step_count(), 583);
 }
+
+#[test]
+fn check_finds_what_a_run_would_refuse_at_its_first_step() {
+    // Three of the files `check` passed and `run` refused at step 0: each is now a problem
+    // of the file, named with its line, in both.
+    let s = Scratch::new();
+    for (name, text, line, says) in [
+        (
+            "energy.toml",
+            "[world]\nboundary = \"open\"\ngravity = [0.0, -1e300]\n[time]\ndt = 0.01\n\
+             steps = 4\n[[disc]]\nposition = [0.0, 1e300]\nradius = 0.5\n",
+            ":3: world.gravity",
+            "overflows f64",
+        ),
+        (
+            "frame.toml",
+            "[world]\nboundary = \"open\"\n[time]\ndt = 0.01\nsteps = 4\n[[disc]]\n\
+             position = [0.0, 1e39]\nradius = 0.5\n[output]\ngsd_every = 1\n",
+            ":10: output.gsd_every",
+            "32-bit floats",
+        ),
+        (
+            "substeps.toml",
+            "[world]\nmin = [0.0, 0.0]\nmax = [10.0, 10.0]\n[time]\ndt = 0.01\nsteps = 4\n\
+             max_travel = 0.01\n[[disc]]\nposition = [5.0, 5.0]\nradius = 0.5\n\
+             velocity = [1e7, 0.0]\n",
+            ":7: time.max_travel",
+            "more than 10000 substeps",
+        ),
+    ] {
+        let scenario = s.scenario(name, text);
+        let (code, _, err) = output(bounce().arg("check").arg(&scenario));
+        assert_eq!(code, 1, "{name}: {err}");
+        assert!(err.contains(line) && err.contains(says), "{name}: {err}");
+        let (code, _, err) = output(
+            bounce()
+                .arg("run")
+                .arg(&scenario)
+                .arg("--out")
+                .arg(s.path(name))
+                .arg("-q"),
+        );
+        assert_eq!(code, 1, "{name}: {err}");
+        assert!(err.contains(line), "{name}: {err}");
+    }
+}

@@ -7,7 +7,7 @@ use bounce::law::Law;
 use bounce::scene::{self, Gas, Lattice, Speeds};
 use bounce::{Config, Particle, World};
 
-use crate::lines::LineIndex;
+use crate::lines::{LineIndex, line_of_key};
 use crate::schema::{FileDiscs, FileSpec, Placement, Scenario, block_counts, block_spacing};
 #[cfg(not(target_arch = "wasm32"))]
 use crate::start;
@@ -47,6 +47,10 @@ pub(crate) fn read_and_build(
     scenario.dir = dir.map(Path::to_path_buf);
     if examined.problems.is_empty() {
         let built = scenario.build_with(source, file, limits)?;
+        let problems = start_problems(&scenario, &built.world, source);
+        if !problems.is_empty() {
+            return Err(fail(problems));
+        }
         return Ok((scenario, built));
     }
     let skip: Vec<usize> = examined.problems.iter().filter_map(|p| p.line).collect();
@@ -545,4 +549,52 @@ enum Entry {
     Block(usize),
     Disc(usize),
     File(usize),
+}
+
+/// What the first step or the first output would refuse in a built world, found before the
+/// run: the energy in the gravity field beyond f64, a time step that needs more substeps
+/// than a step may take, a state beyond a GSD frame's 32-bit floats. So `check` finds them.
+fn start_problems(scenario: &Scenario, world: &World, source: &str) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    let energy = crate::analysis::motion_sums(world).0 + crate::analysis::potential_energy(world);
+    if !energy.is_finite() {
+        problems.push(Problem {
+            line: line_of_key(source, "world", "gravity"),
+            message: format!(
+                "world.gravity: the potential energy in the gravity field overflows f64 at the \
+                 start (gravity {:?} is too strong for these positions)",
+                world.config().gravity
+            ),
+        });
+    }
+    let p = world.particles();
+    let max_speed2 = (0..p.len())
+        .map(|i| p.vx()[i] * p.vx()[i] + p.vy()[i] * p.vy()[i])
+        .fold(0.0, f64::max);
+    let min_radius = p.radius().iter().copied().fold(f64::INFINITY, f64::min);
+    let dt = scenario.time.dt;
+    if !p.is_empty()
+        && world.substeps_for_extremes(dt, max_speed2, min_radius) > bounce::MAX_SUBSTEPS
+    {
+        problems.push(Problem {
+            line: line_of_key(source, "time", "max_travel"),
+            message: format!(
+                "time.max_travel: dt {dt} needs more than {} substeps to keep the fastest disc \
+                 within max_travel {} of the smallest radius per substep at the start: lower \
+                 dt or raise max_travel",
+                bounce::MAX_SUBSTEPS,
+                world.config().max_travel.unwrap_or(0.0)
+            ),
+        });
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    if scenario.output.gsd_every > 0
+        && let Err(e) = crate::gsd::fits_frame(world)
+    {
+        problems.push(Problem {
+            line: line_of_key(source, "output", "gsd_every"),
+            message: format!("output.gsd_every: the first frame cannot be written: {e}"),
+        });
+    }
+    problems
 }

@@ -373,31 +373,14 @@ impl GsdWriter {
 
     /// Appends the world's current state as one frame.
     pub fn frame(&mut self, world: &World) -> Result<()> {
-        let (centre, size) = box_of(world);
         let by_id = world.particles_by_id();
+        fits(world, &by_id)?;
+        let (centre, size) = box_of(world);
         let n = by_id.len();
         let f32s = |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> {
             values.flat_map(|v| (v as f32).to_le_bytes()).collect()
         };
         let model = world.config().mass_model;
-        let step = world.step_count();
-        for (id, p) in &by_id {
-            let what = format!("disc {}", id.0);
-            let centred = [p.position[0] - centre[0], p.position[1] - centre[1]];
-            fits_f32(step, &what, "position (from the box's centre)", &centred)?;
-            fits_f32(step, &what, "velocity", &p.velocity)?;
-            let mass = model.mass(p.radius, p.mass.unwrap_or(0.0));
-            fits_f32(step, &what, "diameter and mass", &[2.0 * p.radius, mass])?;
-            let inertia = world.config().inertia_factor * mass * p.radius * p.radius;
-            let angmom = 2.0 * inertia * p.angular_velocity;
-            fits_f32(
-                step,
-                &what,
-                "moment of inertia and angular momentum",
-                &[inertia, angmom],
-            )?;
-        }
-        fits_f32(step, "the box", "size", &size)?;
 
         self.chunk(
             "configuration/step",
@@ -550,12 +533,43 @@ pub const SLIDE_CHUNK: &str = "log/bounce/lees_edwards_offset";
 /// The chunk holding a frame's simulated time (float64), in bounce's files.
 pub const TIME_CHUNK: &str = "log/bounce/time";
 
-/// Centre and size of the box HOOMD should see: the walls or periodic box; for an open
-/// world, centred on the origin (fixed, so positions are absolute) and just holding every
-/// disc.
 /// Each disc's collisions so far (`bounce::World::collision_counts`), `uint64`, id order.
 pub const COLLISIONS_CHUNK: &str = "log/particles/bounce/collisions";
 
+/// Whether the world's current state fits a GSD frame's 32-bit floats (positions from the
+/// box's centre, velocities, sizes, masses, rotation, the box), naming the first value that
+/// does not: checked before a frame is written, and at a scenario's start.
+pub fn fits_frame(world: &World) -> Result<()> {
+    fits(world, &world.particles_by_id())
+}
+
+/// [`fits_frame`] with the discs in id order already at hand.
+fn fits(world: &World, by_id: &[(bounce::ParticleId, bounce::Particle)]) -> Result<()> {
+    let (centre, size) = box_of(world);
+    let model = world.config().mass_model;
+    let step = world.step_count();
+    for (id, p) in by_id {
+        let what = format!("disc {}", id.0);
+        let centred = [p.position[0] - centre[0], p.position[1] - centre[1]];
+        fits_f32(step, &what, "position (from the box's centre)", &centred)?;
+        fits_f32(step, &what, "velocity", &p.velocity)?;
+        let mass = model.mass(p.radius, p.mass.unwrap_or(0.0));
+        fits_f32(step, &what, "diameter and mass", &[2.0 * p.radius, mass])?;
+        let inertia = world.config().inertia_factor * mass * p.radius * p.radius;
+        let angmom = 2.0 * inertia * p.angular_velocity;
+        fits_f32(
+            step,
+            &what,
+            "moment of inertia and angular momentum",
+            &[inertia, angmom],
+        )?;
+    }
+    fits_f32(step, "the box", "size", &size)
+}
+
+/// Centre and size of the box HOOMD should see: the walls or periodic box; for an open
+/// world, centred on the origin (fixed, so positions are absolute) and just holding every
+/// disc.
 fn box_of(world: &World) -> ([f64; 2], [f64; 2]) {
     match world.config().boundary {
         Boundary::Walls { min, max, .. }
