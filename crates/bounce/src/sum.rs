@@ -4,24 +4,24 @@
 //! threads, storage order and, in a distributed run, the ranks meet in different orders.
 //! Floating-point addition is not associative, so a plain `+=` would give totals that differ
 //! in their last bits with the order. [`ExactSum`] keeps the sum exactly, as a fixed-point
-//! integer wide enough for every finite `f64` (a "superaccumulator": 32-bit lanes of `i64`;
-//! a term's 53 bits go into two of them, so a lane has room for 2^10 additions before
+//! integer wide enough for every finite `f64` (a "superaccumulator": 32-bit limbs of `i64`;
+//! a term's 53 bits go into two of them, so a limb has room for 2^10 additions before
 //! carries are propagated), so any order, any
 //! grouping and any merge of partial sums give the same total, and [`ExactSum::value`] turns
 //! that one total into the same `f64`. Infinities and NaN are kept apart in an `f64` whose
 //! sum does not depend on order either (`inf + -inf` is NaN whichever comes first).
 //!
-//! The lanes are allocated on the first non-zero term, so a sum that stays empty (a chunk of
+//! The limbs are allocated on the first non-zero term, so a sum that stays empty (a chunk of
 //! discs none of which met a wall) costs nothing.
 
 use serde::{Deserialize, Serialize};
 
-/// 32-bit lanes from 2^-1074 (the smallest subnormal) up: 2046 exponents plus 53 mantissa bits
+/// 32-bit limbs from 2^-1074 (the smallest subnormal) up: 2046 exponents plus 53 mantissa bits
 /// need 66, and one more holds the carries of a total above `f64::MAX`.
-const LANES: usize = 67;
-/// Additions a lane takes before carries must be propagated to keep it within `i64`: each
+const LIMBS: usize = 67;
+/// Additions a limb takes before carries must be propagated to keep it within `i64`: each
 /// adds less than 2^52 in magnitude (a term's bits above the lowest 32 of its window), to a
-/// lane below 2^32 after a carry.
+/// limb below 2^32 after a carry.
 const ADDS_BEFORE_CARRY: u32 = 1 << 10;
 
 /// Momentum magnitude delivered to each wall (sum of `m |Δv|` of the discs it reflected).
@@ -62,17 +62,17 @@ impl WallImpulse {
 /// c.add_all(&[-1e16, 1.0, 1e16]);
 /// b.merge(&c);
 /// assert_eq!(b.value().to_bits(), a.value().to_bits());
-/// // As words (what a distributed run adds lane by lane) and back.
+/// // As words (what a distributed run adds limb by limb) and back.
 /// let words = a.to_words();
 /// assert_eq!(words.len(), ExactSum::WORDS);
-/// let lanes = &words[..ExactSum::WORDS - 1];
+/// let limbs = &words[..ExactSum::WORDS - 1];
 /// let special = f64::from_bits(words[ExactSum::WORDS - 1] as u64);
-/// assert_eq!(ExactSum::from_words(lanes, special).value(), 1.3);
+/// assert_eq!(ExactSum::from_words(limbs, special).value(), 1.3);
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ExactSum {
     /// Lane `k` weighs `2^(32 k - 1074)`; `None` until a non-zero finite term arrives.
-    lanes: Option<Box<[i64; LANES]>>,
+    limbs: Option<Box<[i64; LIMBS]>>,
     /// Additions since carries were last propagated.
     adds: u32,
     /// The sum of the non-finite terms (0 when there are none).
@@ -92,13 +92,14 @@ impl ExactSum {
     }
 
     /// Adds each of `terms` exactly (zeros add nothing): the carry interval checked and the
-    /// lanes found once for all of them (the solver adds its lanes' virial terms together).
+    /// limbs found once for all of them (the solver adds its SIMD lanes' virial terms
+    /// together).
     /// See [`ExactSum`] for an example.
     #[inline]
     pub fn add_all(&mut self, terms: &[f64]) {
         debug_assert!(terms.len() <= ADDS_BEFORE_CARRY as usize);
         if terms.iter().all(|&v| v == 0.0) {
-            // The lanes stay unallocated (and the sum equal to an empty one) until a term
+            // The limbs stay unallocated (and the sum equal to an empty one) until a term
             // that is not zero.
             return;
         }
@@ -106,7 +107,7 @@ impl ExactSum {
             self.carry();
         }
         self.adds += terms.len() as u32;
-        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
+        let limbs = self.limbs.get_or_insert_with(|| Box::new([0; LIMBS]));
         for &v in terms {
             let bits = v.to_bits();
             let exponent = ((bits >> 52) & 0x7ff) as u32;
@@ -119,42 +120,42 @@ impl ExactSum {
             // mantissa 0 and adds 0.)
             let mantissa = (bits & ((1 << 52) - 1)) | (u64::from(exponent != 0) << 52);
             let position = exponent.saturating_sub(1);
-            // `position < 2046`, so `lane < 64` (the mask says so to the compiler, which then
-            // needs no bounds check for `lane + 1 < LANES`).
-            let (lane, shift) = ((position / 32) as usize & 63, position % 32);
+            // `position < 2046`, so `limb < 64` (the mask says so to the compiler, which then
+            // needs no bounds check for `limb + 1 < LIMBS`).
+            let (limb, shift) = ((position / 32) as usize & 63, position % 32);
             // The sign applied without a branch (terms of either sign come at random): all
             // ones where negative, so `(m ^ sign) - sign` is `-m` there and `m` else.
             let sign = -((bits >> 63) as i64);
             let signed = (mantissa as i64 ^ sign) - sign;
             // `signed × 2^shift` (85 bits at most) as its lowest 32 bits (two's complement,
             // in `[0, 2^32)`) and the rest (the arithmetic shift's floor, below 2^52 in
-            // magnitude), in two lanes: no 128-bit shift and one lane fewer than 32-bit
+            // magnitude), in two limbs: no 128-bit shift and one limb fewer than 32-bit
             // pieces (the virial is a fifth of a settled pile's resolution).
-            lanes[lane] += signed.wrapping_shl(shift) & 0xffff_ffff;
-            lanes[lane + 1] += signed >> (32 - shift);
+            limbs[limb] += signed.wrapping_shl(shift) & 0xffff_ffff;
+            limbs[limb + 1] += signed >> (32 - shift);
         }
     }
 
     /// Adds every term of `other` (the two sums merged: still exact). See [`ExactSum`] for an example.
     pub fn merge(&mut self, other: &ExactSum) {
         self.special += other.special;
-        let Some(theirs) = &other.lanes else {
+        let Some(theirs) = &other.limbs else {
             return;
         };
-        // Ours normalised (each lane below 2^32 in magnitude) and theirs at most 2^10
-        // additions of less than 2^52 each past a carry: the lane sums stay within `i64`.
+        // Ours normalised (each limb below 2^32 in magnitude) and theirs at most 2^10
+        // additions of less than 2^52 each past a carry: the limb sums stay within `i64`.
         self.carry();
-        let lanes = self.lanes.get_or_insert_with(|| Box::new([0; LANES]));
-        for (mine, theirs) in lanes.iter_mut().zip(theirs.iter()) {
+        let limbs = self.limbs.get_or_insert_with(|| Box::new([0; LIMBS]));
+        for (mine, theirs) in limbs.iter_mut().zip(theirs.iter()) {
             *mine += theirs;
         }
         self.carry();
     }
 
-    /// Propagates carries so every lane but the top one lies in `[0, 2^32)`.
+    /// Propagates carries so every limb but the top one lies in `[0, 2^32)`.
     fn carry(&mut self) {
-        if let Some(lanes) = &mut self.lanes {
-            carry_lanes(lanes);
+        if let Some(limbs) = &mut self.limbs {
+            carry_limbs(limbs);
         }
         self.adds = 0;
     }
@@ -163,25 +164,25 @@ impl ExactSum {
     /// totals give equal bits, however their terms were ordered or grouped. See [`ExactSum`]
     /// for an example.
     pub fn value(&self) -> f64 {
-        let finite = match &self.lanes {
+        let finite = match &self.limbs {
             None => 0.0,
-            Some(lanes) => {
-                let mut lanes = lanes.clone();
-                carry_lanes(&mut lanes);
-                let negative = lanes[LANES - 1] < 0;
+            Some(limbs) => {
+                let mut limbs = limbs.clone();
+                carry_limbs(&mut limbs);
+                let negative = limbs[LIMBS - 1] < 0;
                 if negative {
                     // The magnitude, in the same canonical form.
-                    for lane in lanes.iter_mut() {
-                        *lane = -*lane;
+                    for limb in limbs.iter_mut() {
+                        *limb = -*limb;
                     }
-                    carry_lanes(&mut lanes);
+                    carry_limbs(&mut limbs);
                 }
-                // Top lane down: each lane is exact in an f64, and the first non-zero lanes
+                // Top limb down: each limb is exact in an f64, and the first non-zero limbs
                 // fix the result.
                 let mut total = 0.0;
-                for (k, &lane) in lanes.iter().enumerate().rev() {
-                    if lane != 0 {
-                        total += scale(lane as f64, 32 * k as i32 - 1074);
+                for (k, &limb) in limbs.iter().enumerate().rev() {
+                    if limb != 0 {
+                        total += scale(limb as f64, 32 * k as i32 - 1074);
                     }
                 }
                 if negative { -total } else { total }
@@ -191,48 +192,48 @@ impl ExactSum {
     }
 
     /// The sum's canonical words, for sending (a distributed run reduces these by adding
-    /// them lane by lane, then [`ExactSum::from_words`]): `LANES` lanes then the non-finite
+    /// them limb by limb, then [`ExactSum::from_words`]): `LIMBS` limbs then the non-finite
     /// part's bits. See [`ExactSum`] for an example.
     pub fn to_words(&self) -> Vec<i64> {
-        let mut words = match &self.lanes {
-            Some(lanes) => {
-                let mut lanes = lanes.clone();
-                carry_lanes(&mut lanes);
-                lanes.to_vec()
+        let mut words = match &self.limbs {
+            Some(limbs) => {
+                let mut limbs = limbs.clone();
+                carry_limbs(&mut limbs);
+                limbs.to_vec()
             }
-            None => vec![0; LANES],
+            None => vec![0; LIMBS],
         };
         words.push(self.special.to_bits() as i64);
         words
     }
 
     /// The number of words [`ExactSum::to_words`] gives. See [`ExactSum`] for an example.
-    pub const WORDS: usize = LANES + 1;
+    pub const WORDS: usize = LIMBS + 1;
 
-    /// The sum of several sums' lanes (added lane by lane, at most 2^31 of them) and the
+    /// The sum of several sums' limbs (added limb by limb, at most 2^31 of them) and the
     /// non-finite parts summed separately, as `special`. See [`ExactSum`] for an example.
-    pub fn from_words(lanes: &[i64], special: f64) -> ExactSum {
+    pub fn from_words(limbs: &[i64], special: f64) -> ExactSum {
         let mut sum = ExactSum {
-            lanes: None,
+            limbs: None,
             adds: 0,
             special,
         };
-        if lanes.iter().take(LANES).any(|&l| l != 0) {
-            let mut all = [0; LANES];
-            all.copy_from_slice(&lanes[..LANES]);
-            carry_lanes(&mut all);
-            sum.lanes = Some(Box::new(all));
+        if limbs.iter().take(LIMBS).any(|&l| l != 0) {
+            let mut all = [0; LIMBS];
+            all.copy_from_slice(&limbs[..LIMBS]);
+            carry_limbs(&mut all);
+            sum.limbs = Some(Box::new(all));
         }
         sum
     }
 }
 
-/// Carries every lane's bits above 32 into the next lane (the top lane keeps its sign).
-fn carry_lanes(lanes: &mut [i64; LANES]) {
-    for k in 0..LANES - 1 {
-        let carry = lanes[k] >> 32;
-        lanes[k] -= carry << 32;
-        lanes[k + 1] += carry;
+/// Carries every limb's bits above 32 into the next limb (the top limb keeps its sign).
+fn carry_limbs(limbs: &mut [i64; LIMBS]) {
+    for k in 0..LIMBS - 1 {
+        let carry = limbs[k] >> 32;
+        limbs[k] -= carry << 32;
+        limbs[k + 1] += carry;
     }
 }
 
@@ -405,16 +406,16 @@ mod tests {
             merged.merge(&sum_of(&values[..cut]));
             assert_eq!(merged.value().to_bits(), forward.to_bits());
         }
-        // Through the words of three parts added lane by lane, as ranks reduce them.
+        // Through the words of three parts added limb by limb, as ranks reduce them.
         let parts = [&values[..1000], &values[1000..3000], &values[3000..]];
-        let mut lanes = vec![0i64; ExactSum::WORDS - 1];
+        let mut limbs = vec![0i64; ExactSum::WORDS - 1];
         for part in parts {
-            for (l, w) in lanes.iter_mut().zip(sum_of(part).to_words()) {
+            for (l, w) in limbs.iter_mut().zip(sum_of(part).to_words()) {
                 *l += w;
             }
         }
         assert_eq!(
-            ExactSum::from_words(&lanes, 0.0).value().to_bits(),
+            ExactSum::from_words(&limbs, 0.0).value().to_bits(),
             forward.to_bits()
         );
     }
@@ -471,8 +472,8 @@ mod tests {
 
     #[test]
     fn thousands_of_full_mantissas_in_one_window_sum_exactly() {
-        // Terms just below 4 fill a term's window up to its top lane's 52 bits: thousands
-        // of them in one lane (past the carry interval) still give the exact total.
+        // Terms just below 4 fill a term's window up to its top limb's 52 bits: thousands
+        // of them in one limb (past the carry interval) still give the exact total.
         let t = 4.0f64.next_down(); // (2^53 - 1) × 2^-51
         let mantissa = (1i128 << 53) - 1;
         for (up, down) in [(5000, 0), (3000, 2999), (0, 4096), (7000, 2000)] {

@@ -30,7 +30,7 @@
 //!
 //! **Same sums.** Each part counts the contacts and wall hits in its domain
 //! (`bounce::World::set_tally`), summed exactly (`bounce::ExactSum`); the ranks add their
-//! sums' lanes. The largest radius sizes every part's order grid. Energies, momenta and
+//! sums' limbs. The largest radius sizes every part's order grid. Energies, momenta and
 //! pressures in files are summed in id order on rank 0 from the gathered world. So
 //! `stats.csv`, the GSD and the state hash equal one process's, byte for byte.
 //!

@@ -1,5 +1,5 @@
 //! What travels between ranks, word by word: a ghost's state, a contact sighting, the step's
-//! exact sums as integer lanes, and the all-to-all that carries a word list to each rank.
+//! exact sums as integer limbs, and the all-to-all that carries a word list to each rank.
 
 use bounce::{ContactEvent, ContactKind, ExactSum, ParticleId, Party, StepSums, WallSide};
 use mpi::Count;
@@ -55,7 +55,7 @@ pub(super) fn sighting_of(w: &[f64]) -> (u32, ContactEvent) {
 
 /// The whole step's contact and collision counts and exact sums (virial, the four walls,
 /// friction), from every part's,
-/// and the bytes this rank sent: the counts and the sums' lanes are integers added by
+/// and the bytes this rank sent: the counts and the sums' limbs are integers added by
 /// one reduction, the non-finite parts by another (their sum does not depend on order either).
 pub(super) fn add_sums(
     comm: &SimpleCommunicator,
@@ -73,25 +73,25 @@ pub(super) fn add_sums(
         &sums.walls.walls[3],
         &friction,
     ];
-    let lanes_per_sum = ExactSum::WORDS - 1;
-    let mut lanes = vec![counts[0] as i64, counts[1] as i64];
+    let limbs_per_sum = ExactSum::WORDS - 1;
+    let mut limbs = vec![counts[0] as i64, counts[1] as i64];
     let mut special = [0.0; SUMS];
     for (k, sum) in exact.iter().enumerate() {
         let words = sum.to_words();
-        lanes.extend_from_slice(&words[..lanes_per_sum]);
-        special[k] = f64::from_bits(words[lanes_per_sum] as u64);
+        limbs.extend_from_slice(&words[..limbs_per_sum]);
+        special[k] = f64::from_bits(words[limbs_per_sum] as u64);
     }
-    let mut lanes_all = vec![0i64; lanes.len()];
-    comm.all_reduce_into(&lanes[..], &mut lanes_all[..], SystemOperation::sum());
+    let mut limbs_all = vec![0i64; limbs.len()];
+    comm.all_reduce_into(&limbs[..], &mut limbs_all[..], SystemOperation::sum());
     let mut special_all = [0.0; SUMS];
     comm.all_reduce_into(&special[..], &mut special_all[..], SystemOperation::sum());
-    let bytes = ((lanes.len() + special.len()) * 8) as u64;
+    let bytes = ((limbs.len() + special.len()) * 8) as u64;
     let value = |k: usize| {
-        let at = 2 + k * lanes_per_sum;
-        ExactSum::from_words(&lanes_all[at..at + lanes_per_sum], special_all[k]).value()
+        let at = 2 + k * limbs_per_sum;
+        ExactSum::from_words(&limbs_all[at..at + limbs_per_sum], special_all[k]).value()
     };
     (
-        [lanes_all[0] as usize, lanes_all[1] as usize],
+        [limbs_all[0] as usize, limbs_all[1] as usize],
         [0, 1, 2, 3, 4, 5].map(value),
         bytes,
     )
