@@ -17,6 +17,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use bounce::{StepError, World};
 use bounce_scenario::Session;
+use bounce_scenario::analysis::mechanical_energy;
 use bounce_scenario::checkpoint::RunState;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -258,12 +259,6 @@ pub(crate) fn load_session(args: &RunArgs) -> Result<(Session, Option<RunState>,
         );
     }
     Ok((session, run_state, total))
-}
-
-/// Kinetic plus potential energy (the potential is zero without gravity).
-pub(crate) fn mechanical_energy(world: &World) -> f64 {
-    bounce_scenario::analysis::motion_sums(world).0
-        + bounce_scenario::analysis::potential_energy(world)
 }
 
 /// The step after `step` overflowed: the outputs up to `step`, the last finite one, are kept

@@ -33,6 +33,13 @@ pub fn total_energy(world: &World) -> f64 {
     kinetic + world.rotational_energy() + potential_energy(world)
 }
 
+/// The discs' kinetic plus potential energy, summed in id order (the potential is zero
+/// without gravity): what a run's summary compares from start to end, and what must be
+/// finite at the start.
+pub fn mechanical_energy(world: &World) -> f64 {
+    motion_sums(world).0 + potential_energy(world)
+}
+
 /// The potential energy in the uniform gravity field, `−Σ m g·x` (zero at the origin), with
 /// the world's mass model, summed in id order. Zero without gravity.
 pub fn potential_energy(world: &World) -> f64 {

@@ -556,8 +556,7 @@ enum Entry {
 /// than a step may take, a state beyond a GSD frame's 32-bit floats. So `check` finds them.
 fn start_problems(scenario: &Scenario, world: &World, source: &str) -> Vec<Problem> {
     let mut problems = Vec::new();
-    let energy = crate::analysis::motion_sums(world).0 + crate::analysis::potential_energy(world);
-    if !energy.is_finite() {
+    if !crate::analysis::mechanical_energy(world).is_finite() {
         problems.push(Problem {
             line: line_of_key(source, "world", "gravity"),
             message: format!(

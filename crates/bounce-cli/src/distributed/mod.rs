@@ -67,13 +67,13 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use bounce_scenario::Session;
+use bounce_scenario::analysis::mechanical_energy;
 use mpi::collective::SystemOperation;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
 use crate::run::{
-    Outcome, Outputs, Report, RunArgs, Schedule, load_session, mechanical_energy, prepare_out_dir,
-    progress_bar,
+    Outcome, Outputs, Report, RunArgs, Schedule, load_session, prepare_out_dir, progress_bar,
 };
 
 mod decomposition;
